@@ -1,0 +1,197 @@
+"""Input checks shared by every public entry point.
+
+Loops travel through sktiction in tslearn's layout ``(n_loops, n_samples, n_channels)``
+with channels in the order PV, OP, SP and unequal lengths NaN-padded at the end.
+Everything here either returns such an array or raises an error that names the problem.
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+
+CHANNELS = ("pv", "op", "sp")
+PV, OP, SP = 0, 1, 2
+
+# Per-loop status codes, in the order they are checked.
+STATUS_OK = "ok"
+STATUS_EMPTY = "empty"
+STATUS_TOO_SHORT = "too_short"
+STATUS_NAN_GAP = "nan_gap"
+STATUS_CONSTANT = "constant"
+STATUS_MISSING_OP = "missing_op"
+
+
+def check_random_state_seed(random_state):
+    """Return a :class:`numpy.random.Generator` from ``None``, an int or a Generator."""
+    if isinstance(random_state, np.random.Generator):
+        return random_state
+    if random_state is None or isinstance(random_state, numbers.Integral):
+        return np.random.default_rng(random_state)
+    if isinstance(random_state, np.random.RandomState):
+        return np.random.default_rng(random_state.randint(0, 2**31 - 1))
+    raise ValueError(
+        f"random_state must be None, an int or a numpy Generator; got {random_state!r}."
+    )
+
+
+def check_loops(X, *, name="X", allow_nd=True):
+    """Return loops as a float array ``(n_loops, n_samples, 3)``.
+
+    Parameters
+    ----------
+    X : array-like or pandas.DataFrame
+        ``(n_loops, n_samples, n_channels)`` with channels PV, OP, SP (1 to 3
+        channels; missing trailing channels are filled with NaN), or
+        ``(n_loops, n_samples)`` for PV alone, or ``(n_samples,)`` for one PV series.
+    name : str, default="X"
+        Name used in error messages.
+    allow_nd : bool, default=True
+        Accept 3-D input. When False only 1-D and 2-D input is accepted.
+
+    Returns
+    -------
+    loops : ndarray of shape (n_loops, n_samples, 3)
+        Float64 copy; absent channels are all-NaN.
+
+    Raises
+    ------
+    TypeError
+        If the values are not numeric.
+    ValueError
+        If the array is empty, has more than three channels or more than three
+        dimensions, or holds infinite values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction._validation import check_loops
+    >>> check_loops(np.zeros((2, 5))).shape
+    (2, 5, 3)
+    """
+    if hasattr(X, "to_numpy") and hasattr(X, "dtypes"):
+        bad = [str(c) for c, dt in zip(X.columns, X.dtypes) if not np.issubdtype(dt, np.number)]
+        if bad:
+            raise TypeError(f"{name} has non-numeric columns: {', '.join(bad)}.")
+        X = X.to_numpy(dtype=float)
+    arr = np.asarray(X)
+    if arr.dtype == object or not (
+        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
+    ):
+        try:
+            arr = arr.astype(float)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"{name} must hold numbers; got dtype {arr.dtype}.") from exc
+    if np.iscomplexobj(arr):
+        raise TypeError(f"{name} must hold real numbers; got complex values.")
+    arr = np.array(arr, dtype=float)
+    if arr.ndim == 1:
+        arr = arr[None, :, None]
+    elif arr.ndim == 2:
+        arr = arr[:, :, None]
+    elif arr.ndim == 3:
+        if not allow_nd:
+            raise ValueError(f"{name} must be 1-D or 2-D; got shape {arr.shape}.")
+    else:
+        raise ValueError(
+            f"{name} must have shape (n_loops, n_samples, n_channels); got {arr.ndim} "
+            f"dimensions, shape {arr.shape}."
+        )
+    n_loops, n_samples, n_channels = arr.shape
+    if n_loops == 0 or n_samples == 0:
+        raise ValueError(f"{name} is empty: shape {arr.shape}.")
+    if n_channels == 0 or n_channels > 3:
+        raise ValueError(
+            f"{name} must have 1 to 3 channels (PV, OP, SP in that order); got {n_channels}."
+        )
+    if np.isinf(arr).any():
+        raise ValueError(f"{name} contains infinite values.")
+    if n_channels < 3:
+        pad = np.full((n_loops, n_samples, 3 - n_channels), np.nan)
+        arr = np.concatenate([arr, pad], axis=2)
+    return arr
+
+
+def loop_lengths(loops):
+    """Number of samples of each loop before its trailing NaN padding (from PV).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction._validation import loop_lengths
+    >>> loop_lengths(np.array([[[1.0], [2.0], [np.nan]]]))
+    array([2])
+    """
+    valid = ~np.isnan(loops[:, :, PV])
+    n = valid.shape[1]
+    # index of the last valid sample + 1 (0 when nothing is valid)
+    last = n - np.argmax(valid[:, ::-1], axis=1)
+    return np.where(valid.any(axis=1), last, 0)
+
+
+def channel(loops, i, c):
+    """Channel ``c`` of loop ``i`` with the end padding removed (a view)."""
+    n = int(loop_lengths(loops[i : i + 1])[0])
+    return loops[i, :n, c]
+
+
+def loop_status(loops, *, min_samples=20, require_op=False):
+    """Per-loop status codes: why a loop cannot be analysed, or ``"ok"``.
+
+    Parameters
+    ----------
+    loops : ndarray of shape (n_loops, n_samples, 3)
+        Output of :func:`check_loops`.
+    min_samples : int, default=20
+        Fewer valid samples than this gives ``"too_short"``.
+    require_op : bool, default=False
+        When True a loop without an OP channel gives ``"missing_op"``.
+
+    Returns
+    -------
+    status : ndarray of str, shape (n_loops,)
+        One of ``ok``, ``empty``, ``too_short``, ``nan_gap`` (NaN inside the
+        record, not only as end padding), ``constant`` (PV, or OP when required,
+        never moves) and ``missing_op``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction._validation import check_loops, loop_status
+    >>> X = check_loops(np.vstack([np.sin(np.arange(50.0)), np.ones(50)]))
+    >>> loop_status(X).tolist()
+    ['ok', 'constant']
+    """
+    lengths = loop_lengths(loops)
+    out = np.empty(len(loops), dtype=object)
+    for i, n in enumerate(lengths):
+        pv = loops[i, :n, PV]
+        op = loops[i, :n, OP]
+        has_op = not np.isnan(loops[i, :, OP]).all()
+        if n == 0:
+            out[i] = STATUS_EMPTY
+        elif n < min_samples:
+            out[i] = STATUS_TOO_SHORT
+        elif np.isnan(pv).any() or (has_op and np.isnan(op).any()):
+            out[i] = STATUS_NAN_GAP
+        elif require_op and not has_op:
+            out[i] = STATUS_MISSING_OP
+        elif np.ptp(pv) == 0 or (require_op and np.ptp(op) == 0):
+            out[i] = STATUS_CONSTANT
+        else:
+            out[i] = STATUS_OK
+    return out.astype(str)
+
+
+def check_positive(value, name, *, strict=True, upper=None):
+    """Raise ``ValueError`` naming ``name`` unless ``value`` is a finite number in range."""
+    ok = isinstance(value, numbers.Real) and np.isfinite(value)
+    ok = ok and (value > 0 if strict else value >= 0)
+    if ok and upper is not None:
+        ok = value <= upper
+    if not ok:
+        lo = "> 0" if strict else ">= 0"
+        rng = f"{lo}" + (f" and <= {upper}" if upper is not None else "")
+        raise ValueError(f"{name} must be a finite number {rng}; got {value!r}.")
+    return float(value)
