@@ -1,0 +1,102 @@
+"""What the loop classifiers share: input checks, fixed labels and per-loop reasons."""
+
+from __future__ import annotations
+
+import numpy as np
+from sklearn.utils.multiclass import check_classification_targets
+from sklearn.utils.validation import check_is_fitted, column_or_1d
+
+from .._validation import check_loops, loop_status
+
+#: Why a loop got no stiction verdict; ``"ok"`` when it was analysed.
+REASON_NOT_OSCILLATING = "not_oscillating"
+
+
+class LoopClassifierMixin:
+    """Binary stiction classifier on raw loops ``(n_loops, n_samples, 3)``.
+
+    Labels are fixed: 0 = no stiction (or no verdict possible), 1 = stiction.
+    Subclasses implement ``_fit_loops(loops, y)`` (may do nothing) and
+    ``_score_loops(loops)`` returning a DataFrame with at least ``score`` (larger means
+    more likely sticky), ``prediction`` and ``reason``.
+    """
+
+    _require_op = False
+
+    def fit(self, X, y=None):
+        """Check the loops and labels; rule-based subclasses learn nothing else.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP, NaN-padded at the end.
+        y : array-like of shape (n_loops,), default=None
+            0 (no stiction) or 1 (stiction); only checked by rule-based classifiers.
+
+        Returns
+        -------
+        self : object
+            Fitted classifier.
+        """
+        loops = check_loops(X)
+        if y is not None:
+            y = column_or_1d(y, warn=True)
+            check_classification_targets(y)
+            if len(y) != len(loops):
+                raise ValueError(
+                    f"X has {len(loops)} loops but y has {len(y)} labels; they must match."
+                )
+            labels = np.unique(y)
+            if not np.isin(labels, [0, 1]).all():
+                raise ValueError(
+                    f"y must hold 0 (no stiction) and 1 (stiction); got labels {labels.tolist()}."
+                )
+        self.classes_ = np.array([0, 1])
+        self.n_channels_in_ = int(np.asarray(X).shape[2]) if np.ndim(X) == 3 else 1
+        self._fit_loops(loops, y)
+        return self
+
+    def _fit_loops(self, loops, y):
+        return None
+
+    def _checked(self, X):
+        check_is_fitted(self, "classes_")
+        return check_loops(X)
+
+    def diagnose(self, X):
+        """Per-loop verdict with the evidence behind it.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP.
+
+        Returns
+        -------
+        report : pandas.DataFrame
+            One row per loop: ``prediction`` (0/1), ``score``, ``reason`` (``ok``, a
+            :func:`~sktiction._validation.loop_status` code or ``not_oscillating``)
+            and the classifier's own evidence columns.
+        """
+        loops = self._checked(X)
+        report = self._score_loops(loops)
+        status = loop_status(loops, require_op=self._require_op)
+        bad = status != "ok"
+        report.loc[bad, "reason"] = status[bad]
+        report.loc[bad, "prediction"] = 0
+        return report
+
+    def predict(self, X):
+        """Predict 1 for stiction, 0 otherwise (including loops with no verdict).
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP.
+
+        Returns
+        -------
+        y_pred : ndarray of shape (n_loops,)
+            Predicted labels.
+        """
+        return self.diagnose(X)["prediction"].to_numpy(dtype=int)

@@ -1,0 +1,166 @@
+"""Whole-loop descriptors that need no cycles: OP-PV correlation shape and stick-slip jumps.
+
+They complement the cycle features for windows that do not oscillate: a sticky valve
+in a flow loop may show up only as a few slips (PV jumps while OP ramps) during a
+setpoint move, and such a window has no cycles to match.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from sklearn.base import BaseEstimator, TransformerMixin
+from sklearn.utils.validation import check_is_fitted
+
+from .._validation import OP, PV, check_loops, loop_lengths, loop_status
+
+FEATURES = (
+    "ccf_zero_lag",
+    "ccf_peak_lag",
+    "pv_jump_share",
+    "op_jump_share",
+    "pv_op_jump_ratio",
+    "op_saturated_share",
+    "pv_kurtosis_diff",
+)
+
+
+def _jump_share(x, top=0.02):
+    """Share of the total absolute increments carried by the largest ``top`` fraction.
+
+    A ramp spreads its travel evenly (share close to ``top``); a signal that moves in
+    a few slips concentrates it (share close to 1).
+    """
+    dx = np.abs(np.diff(x))
+    total = dx.sum()
+    if total == 0:
+        return np.nan
+    k = max(1, int(np.ceil(top * dx.size)))
+    return float(np.partition(dx, dx.size - k)[-k:].sum() / total)
+
+
+def _kurtosis(x):
+    x = x - x.mean()
+    v = np.mean(x * x)
+    return float(np.mean(x**4) / v**2 - 3.0) if v > 0 else np.nan
+
+
+def _ccf_features(pv, op, max_lag):
+    """Horch's cross-correlation test, reduced to two numbers.
+
+    Returns the normalised CCF at lag 0 relative to its largest magnitude within
+    ``max_lag`` (near 0 for the odd CCF of a sticking valve in a self-regulating loop,
+    near +-1 for the even CCF of tuning or disturbance problems), and the lag of
+    that largest magnitude as a fraction of ``max_lag``.
+    """
+    pv = pv - pv.mean()
+    op = op - op.mean()
+    denom = np.sqrt(np.dot(pv, pv) * np.dot(op, op))
+    if denom == 0:
+        return np.nan, np.nan
+    n = pv.size
+    lags = np.arange(-max_lag, max_lag + 1)
+    ccf = np.array(
+        [np.dot(op[max(0, -k) : n - max(0, k)], pv[max(0, k) : n - max(0, -k)]) for k in lags]
+    ) / denom
+    peak = int(np.argmax(np.abs(ccf)))
+    return float(ccf[max_lag] / abs(ccf[peak])), float(lags[peak] / max_lag)
+
+
+class LoopDescriptors(TransformerMixin, BaseEstimator):
+    """Cycle-free descriptors of each loop: CCF shape, stick-slip jumps, saturation.
+
+    Columns:
+
+    - ``ccf_zero_lag``, ``ccf_peak_lag``: Horch's (1999) OP-PV cross-correlation
+      test, as the CCF at lag 0 over its largest magnitude and where that lies.
+    - ``pv_jump_share``, ``op_jump_share``: share of total travel carried by the
+      largest 2 % of sample-to-sample moves; ``pv_op_jump_ratio`` their ratio
+      (large when PV slips while OP ramps, the mark of stick-slip).
+    - ``op_saturated_share``: share of samples with OP at 0 or 100 %.
+    - ``pv_kurtosis_diff``: kurtosis of PV increments minus that of OP increments.
+
+    Loops that cannot be analysed (see :func:`~sktiction._validation.loop_status`)
+    get NaN; OP-based columns are NaN without OP.
+
+    Parameters
+    ----------
+    max_lag : int, default=100
+        Largest CCF lag in samples (capped at a quarter of the loop length).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.features import LoopDescriptors
+    >>> t = np.arange(600)
+    >>> op = 50 + 5 * np.abs((t % 100) / 50 - 1)         # triangular OP
+    >>> pv = 50 + 3 * np.sign(np.sin(2 * np.pi * t / 100))  # square PV
+    >>> X = np.stack([pv, op], axis=1)[None]
+    >>> d = LoopDescriptors().fit(X).transform(X)
+    >>> bool(d[0, 4] > 5)  # PV carries its travel in jumps, OP does not
+    True
+    """
+
+    def __init__(self, max_lag=100):
+        self.max_lag = max_lag
+
+    def fit(self, X, y=None):
+        """Record the input; nothing is learned.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP.
+        y : ignored
+
+        Returns
+        -------
+        self : object
+        """
+        self.n_channels_in_ = int(np.shape(X)[2]) if np.ndim(X) == 3 else 1
+        check_loops(X)
+        return self
+
+    def transform(self, X):
+        """Compute the descriptors.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP.
+
+        Returns
+        -------
+        features : ndarray of shape (n_loops, 7)
+            See the class docstring for the columns.
+        """
+        check_is_fitted(self, "n_channels_in_")
+        loops = check_loops(X)
+        out = np.full((len(loops), len(FEATURES)), np.nan)
+        status = loop_status(loops)
+        for i, n in enumerate(loop_lengths(loops)):
+            if status[i] != "ok":
+                continue
+            pv = loops[i, :n, PV]
+            out[i, 2] = _jump_share(pv)
+            op = loops[i, :n, OP]
+            if np.isnan(op).any() or np.ptp(op) == 0:
+                continue
+            out[i, :2] = _ccf_features(pv, op, max(1, min(int(self.max_lag), n // 4)))
+            out[i, 3] = _jump_share(op)
+            out[i, 4] = out[i, 2] / out[i, 3] if out[i, 3] > 0 else np.nan
+            out[i, 5] = np.mean((op <= 0.0) | (op >= 100.0))
+            out[i, 6] = _kurtosis(np.diff(pv)) - _kurtosis(np.diff(op))
+        return out
+
+    def get_feature_names_out(self, input_features=None):
+        """Names of the output columns.
+
+        Parameters
+        ----------
+        input_features : ignored
+
+        Returns
+        -------
+        names : ndarray of str
+        """
+        return np.asarray(FEATURES, dtype=object)

@@ -1,0 +1,6 @@
+"""Reports: batch scans of many loops and plots of one loop's cycles."""
+
+from .plots import plot_loop
+from .scan import scan_loops
+
+__all__ = ["plot_loop", "scan_loops"]

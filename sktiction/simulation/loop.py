@@ -1,0 +1,387 @@
+"""Compiled closed loop and its Python front ends.
+
+One sample ``k`` of the loop (all loops start at steady state)::
+
+    pv[k]   = pv_eq + C x[k] + output_load[k] + noise[k]     (measured PV)
+    e[k]    = sp[k] - pv[k]
+    op[k]   = clip(op[k-1] + s Kc ((e[k] - e[k-1]) + ts/Ti e[k] - Td/ts D2 pv[k]), 0, 100)
+    v[k]    = valve(op[k])
+    x[k+1]  = A x[k] + B0 w[k-m] + B1 w[k-m-1],   w = v + input_load - op_eq
+
+``pv_eq`` is the initial setpoint and ``op_eq`` the initial OP (valve at rest
+there), so with no disturbance nothing moves until the setpoint or a load does.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+from sklearn.utils import Bunch
+
+from .._validation import check_positive, check_random_state_seed
+from .controllers import PIController
+from .effects import EXOGENOUS_KEYS, Effect
+from .valves import N_PARAMS, STATE_SIZE, _Valve, valve_step
+
+__all__ = ["simulate_loop", "simulate_loops"]
+
+# Fallback reference for SNR-specified noise when the noise-free pilot PV does not move.
+_DEFAULT_REFERENCE_STD = 1.0
+
+
+@njit(cache=True)
+def _run_loops(
+    A, B0, B1, C, nxs, delay, kcs, ti, td, ts, op_lo, op_hi, op0, pv_eq,
+    kinds, vpar, vstate, sp, out_load, in_load, noise, X, valve,
+):  # fmt: skip
+    n_loops, n = valve.shape
+    x = np.zeros(A.shape[1])
+    xn = np.zeros(A.shape[1])
+    # exogenous inputs are (n_loops, n) or (n_loops, 1): step 1 or 0 through time
+    dsp = 1 if sp.shape[1] > 1 else 0
+    dol = 1 if out_load.shape[1] > 1 else 0
+    dil = 1 if in_load.shape[1] > 1 else 0
+    dno = 1 if noise.shape[1] > 1 else 0
+    for j in range(n_loops):
+        nx = nxs[j]
+        x[:] = 0.0
+        m = delay[j]
+        nb = m + 2
+        buf = np.zeros(nb)
+        head = 0  # buf[head] receives w[k]; buf[(head + m) % nb] holds w[k-m]
+        st = vstate[j].copy()
+        kind = kinds[j]
+        par = vpar[j]
+        kp = kcs[j]
+        ki = kcs[j] * ts[j] / ti[j]
+        kd = kcs[j] * td[j] / ts[j]
+        lo = op_lo[j]
+        hi = op_hi[j]
+        u = op0[j]
+        ueq = op0[j]
+        peq = pv_eq[j]
+        # steady state before the first sample: zero error, PV at equilibrium
+        e1 = 0.0
+        pv1 = peq
+        pv2 = peq
+        for k in range(n):
+            y = 0.0
+            for i in range(nx):
+                y += C[j, i] * x[i]
+            p = peq + y + out_load[j, k * dol] + noise[j, k * dno]
+            e = sp[j, k * dsp] - p
+            u += kp * (e - e1) + ki * e - kd * (p - 2.0 * pv1 + pv2)
+            if u > hi:
+                u = hi
+            elif u < lo:
+                u = lo
+            v = valve_step(kind, par, st, u)
+            X[j, k, 0] = p
+            X[j, k, 1] = u
+            X[j, k, 2] = sp[j, k * dsp]
+            valve[j, k] = v
+            e1 = e
+            pv2 = pv1
+            pv1 = p
+            buf[head] = v + in_load[j, k * dil] - ueq
+            i0 = head + m
+            if i0 >= nb:
+                i0 -= nb
+            i1 = i0 + 1
+            if i1 >= nb:
+                i1 -= nb
+            # samples before the start were at equilibrium (zeros in buf)
+            w0 = buf[i0]
+            w1 = buf[i1]
+            for i in range(nx):
+                acc = B0[j, i] * w0 + B1[j, i] * w1
+                for q in range(nx):
+                    acc += A[j, i, q] * x[q]
+                xn[i] = acc
+            for i in range(nx):
+                x[i] = xn[i]
+            head -= 1
+            if head < 0:
+                head += nb
+
+
+def _as_list(obj, n, name):
+    if not isinstance(obj, (list, tuple)):
+        return [obj] * n
+    seq = list(obj)
+    if len(seq) != n:
+        raise ValueError(f"{name} must be one object or a sequence of {n}; got {len(seq)}.")
+    return seq
+
+
+def _check_n_samples(n_samples):
+    if not isinstance(n_samples, (int, np.integer)) or n_samples < 2:
+        raise ValueError(f"n_samples must be an integer >= 2; got {n_samples!r}.")
+    return int(n_samples)
+
+
+def _per_loop_effects(effects, n_loops):
+    effects = list(effects)
+    if all(isinstance(e, Effect) for e in effects):
+        return [effects] * n_loops
+    if len(effects) != n_loops:
+        raise ValueError(
+            f"effects must be a sequence of Effect objects or one such sequence per loop "
+            f"({n_loops}); got {len(effects)} entries."
+        )
+    out = []
+    for row in effects:
+        row = [row] if isinstance(row, Effect) else list(row)
+        if not all(isinstance(e, Effect) for e in row):
+            raise ValueError("effects must contain Effect objects only.")
+        out.append(row)
+    return out
+
+
+def _discretize_all(plants, ts):
+    mats = [p.discretize(t) for p, t in zip(plants, ts, strict=True)]
+    nx = max(m[0].shape[0] for m in mats)
+    n_loops = len(plants)
+    A = np.zeros((n_loops, nx, nx))
+    B0 = np.zeros((n_loops, nx))
+    B1 = np.zeros((n_loops, nx))
+    C = np.zeros((n_loops, nx))
+    delay = np.zeros(n_loops, dtype=np.int64)
+    nxs = np.zeros(n_loops, dtype=np.int64)
+    for j, (Ad, b0, b1, c, m) in enumerate(mats):
+        n = Ad.shape[0]
+        nxs[j] = n
+        A[j, :n, :n] = Ad
+        B0[j, :n] = b0
+        B1[j, :n] = b1
+        C[j, :n] = c
+        delay[j] = m
+    return A, B0, B1, C, nxs, delay
+
+
+def simulate_loops(
+    plants,
+    controllers,
+    valves,
+    n_samples,
+    ts,
+    *,
+    setpoint=50.0,
+    effects=(),
+    initial_op=None,
+    random_state=None,
+):
+    """Simulate many closed loops in one compiled call.
+
+    Parameters
+    ----------
+    plants, controllers, valves : object or sequence
+        One object shared by all loops, or one per loop (equal lengths).
+    n_samples : int
+        Samples per loop (>= 2).
+    ts : float or sequence of float
+        Sample time(s) (> 0), in the time unit of the plant parameters.
+    setpoint : float, array of shape (n_samples,) or (n_loops, n_samples), default=50.0
+        Base setpoint; the PV starts at equilibrium at its first value.
+        Setpoint effects are added to it.
+    effects : sequence of Effect, or one such sequence per loop, default=()
+        Exogenous and recording effects (:mod:`sktiction.simulation.effects`).
+    initial_op : float, sequence of float or None, default=None
+        OP (and valve position) at the start, where the plant is at
+        equilibrium; ``None`` means 50 %.
+    random_state : None, int or numpy.random.Generator, default=None
+        Seeds the effects.
+
+    Returns
+    -------
+    result : sklearn.utils.Bunch
+        ``pv`` (measured, with noise), ``op``, ``sp`` (views into ``X``),
+        ``valve`` (stem position = plant input without input load): arrays
+        ``(n_loops, n_samples)``;
+        ``t``: ``(n_samples,)`` for a common ``ts``, else ``(n_loops, n_samples)``;
+        ``X``: ``(n_loops, n_samples, 3)`` with channels PV, OP, SP (after
+        recording effects).
+
+    Examples
+    --------
+    >>> from sktiction.simulation import (FOPTD, PIController, RelayValve, LinearValve,
+    ...     SetpointSteps, simulate_loops)
+    >>> plant = FOPTD(1.0, 10.0, 2.0)
+    >>> res = simulate_loops(plant, PIController.from_plant(plant), [LinearValve(),
+    ...     RelayValve(2.0)], 500, 0.5, effects=[SetpointSteps([5.0], [1.0])])
+    >>> res.X.shape
+    (2, 500, 3)
+    """
+    n_samples = _check_n_samples(n_samples)
+    n_loops = None
+    for obj in (plants, controllers, valves):
+        if isinstance(obj, (list, tuple)):
+            n_loops = len(obj)
+            break
+    n_loops = 1 if n_loops is None else n_loops
+    if n_loops < 1:
+        raise ValueError("at least one loop is needed; got empty sequences.")
+    plants = _as_list(plants, n_loops, "plants")
+    controllers = _as_list(controllers, n_loops, "controllers")
+    valves = _as_list(valves, n_loops, "valves")
+    for c in controllers:
+        if not isinstance(c, PIController):
+            raise ValueError(f"controllers must be PIController objects; got {c!r}.")
+    for v in valves:
+        if not isinstance(v, _Valve):
+            raise ValueError(f"valves must be valve objects from sktiction.simulation; got {v!r}.")
+    ts_arr = np.broadcast_to(np.asarray(ts, dtype=float), (n_loops,)).copy()
+    for t in ts_arr:
+        check_positive(float(t), "ts")
+    if initial_op is None:
+        initial_op = 50.0
+    op0 = np.broadcast_to(np.asarray(initial_op, dtype=float), (n_loops,)).copy()
+    if not np.all((op0 >= 0) & (op0 <= 100)):
+        raise ValueError(f"initial_op must be within 0-100 %; got {initial_op!r}.")
+    sp = np.asarray(setpoint, dtype=float)
+    if sp.ndim == 0:
+        sp = np.full((n_loops, 1), float(sp))
+    elif sp.shape == (n_samples,):
+        sp = np.tile(sp, (n_loops, 1))
+    elif sp.shape != (n_loops, n_samples):
+        raise ValueError(
+            f"setpoint must be a number or have shape ({n_samples},) or "
+            f"({n_loops}, {n_samples}); got {sp.shape}."
+        )
+    if not np.all(np.isfinite(sp)):
+        raise ValueError("setpoint must be finite.")
+    effects = _per_loop_effects(effects, n_loops)
+    rng = check_random_state_seed(random_state)
+
+    # exogenous arrays; a key nobody uses stays (n_loops, 1) so the kernel reads a constant
+    exo = {key: np.zeros((n_loops, 1)) for key in EXOGENOUS_KEYS}
+    for j in range(n_loops):
+        for eff in effects[j]:
+            if eff.kind != "exogenous":
+                continue
+            for key, arr in eff.signals(n_samples, ts_arr[j], rng).items():
+                if exo[key].shape[1] == 1:
+                    exo[key] = np.zeros((n_loops, n_samples))
+                exo[key][j] += arr
+    pv_eq = sp[:, 0].copy()
+    if exo["setpoint"].shape[1] > 1:
+        exo["setpoint"] += sp  # in place: large fresh arrays are costly to fault in
+        sp = exo["setpoint"]
+
+    A, B0, B1, C, nxs, delay = _discretize_all(plants, ts_arr)
+    signs = np.array([c.sign(p.gain) for c, p in zip(controllers, plants, strict=True)])
+    kcs = signs * np.array([c.kc for c in controllers])
+    ti = np.array([c.ti for c in controllers])
+    td = np.array([c.td for c in controllers])
+    op_lo = np.array([c.op_limits[0] for c in controllers])
+    op_hi = np.array([c.op_limits[1] for c in controllers])
+    op0 = np.clip(op0, op_lo, op_hi)
+    kinds = np.array([v.kind for v in valves], dtype=np.int64)
+    vpar = np.zeros((n_loops, N_PARAMS))
+    vstate = np.zeros((n_loops, STATE_SIZE))
+    for j, v in enumerate(valves):
+        vpar[j] = v.params()
+        vstate[j] = v.initial_state(op0[j])
+
+    # PV and OP are written straight into the (n_loops, n_samples, 3) output
+    X = np.empty((n_loops, n_samples, 3))
+    valve = np.empty((n_loops, n_samples))
+
+    def run(noise):
+        _run_loops(
+            A, B0, B1, C, nxs, delay, kcs, ti, td, ts_arr, op_lo, op_hi, op0, pv_eq,
+            kinds, vpar, vstate, sp, exo["output_load"], exo["input_load"], noise, X, valve,
+        )  # fmt: skip
+
+    noise = exo["noise"]
+    if exo["noise_relative"].shape[1] > 1:
+        # SNR-specified noise: scale by the PV spread of a noise-free pilot run
+        run(np.zeros((n_loops, 1)))
+        ref = X[:, n_samples // 2 :, 0].std(axis=1)
+        ref = np.where(ref > 1e-12, ref, _DEFAULT_REFERENCE_STD)
+        noise = noise + exo["noise_relative"] * ref[:, None]
+    run(noise)
+
+    t = np.arange(n_samples) * ts_arr[0]
+    if np.any(ts_arr != ts_arr[0]):
+        t = np.arange(n_samples)[None, :] * ts_arr[:, None]
+    if any(e.kind == "recording" for row in effects for e in row):
+        for j in range(n_loops):
+            sig = {"pv": X[j, :, 0].copy(), "op": X[j, :, 1].copy(), "sp": X[j, :, 2].copy()}
+            for eff in effects[j]:
+                if eff.kind == "recording":
+                    sig = eff.record(sig, ts_arr[j], rng)
+            for c, key in enumerate(("pv", "op", "sp")):
+                X[j, :, c] = sig[key]
+    return Bunch(pv=X[:, :, 0], op=X[:, :, 1], sp=X[:, :, 2], valve=valve, t=t, X=X)
+
+
+def simulate_loop(
+    plant,
+    controller,
+    valve,
+    n_samples,
+    ts,
+    *,
+    setpoint=50.0,
+    effects=(),
+    initial_op=None,
+    random_state=None,
+):
+    """Simulate one closed loop: plant, PI(D) controller, valve and effects.
+
+    Parameters
+    ----------
+    plant : FOPTD, SOPTD, NthOrderLag or IntegratingPlant
+    controller : PIController
+    valve : LinearValve, RelayValve, ChoudhuryValve, KanoValve or DeadbandValve
+    n_samples : int
+        Number of samples (>= 2).
+    ts : float
+        Sample time (> 0), same time unit as the plant.
+    setpoint : float or array of shape (n_samples,), default=50.0
+        Base setpoint; the loop starts at steady state with PV at its first
+        value and OP (valve) at ``initial_op``.
+    effects : sequence of Effect, default=()
+        Exogenous effects (setpoint steps, loads, noise) and recording effects
+        (e.g. :class:`Quantization`).
+    initial_op : float or None, default=None
+        Steady-state OP at the start (0-100 %); ``None`` means 50 %.
+    random_state : None, int or numpy.random.Generator, default=None
+        Seeds the random effects.
+
+    Returns
+    -------
+    result : sklearn.utils.Bunch
+        ``pv``, ``op``, ``sp``, ``valve``, ``t``: arrays ``(n_samples,)``;
+        ``X``: ``(n_samples, 3)`` with columns PV, OP, SP.
+
+    Examples
+    --------
+    >>> from sktiction.simulation import (FOPTD, PIController, ChoudhuryValve,
+    ...     SetpointSteps, simulate_loop)
+    >>> plant = FOPTD(gain=1.0, time_constant=10.0, delay=5.0)
+    >>> ctrl = PIController.from_plant(plant, rule="amigo")
+    >>> res = simulate_loop(plant, ctrl, ChoudhuryValve(S=3.0, J=1.0), 2000, 0.5,
+    ...                     effects=[SetpointSteps([10.0], [2.0])])
+    >>> res.X.shape
+    (2000, 3)
+    >>> bool(res.pv[-500:].std() > 0.1)  # stiction keeps the loop cycling
+    True
+    """
+    if isinstance(plant, (list, tuple)):
+        raise ValueError("plant must be a single plant; use simulate_loops for several.")
+    res = simulate_loops(
+        [plant],
+        controller,
+        valve,
+        n_samples,
+        ts,
+        setpoint=np.asarray(setpoint, dtype=float),
+        effects=list(effects),
+        initial_op=initial_op,
+        random_state=random_state,
+    )
+    out = Bunch(**{k: v[0] for k, v in res.items() if k != "t"})
+    out.t = res.t if res.t.ndim == 1 else res.t[0]
+    return out

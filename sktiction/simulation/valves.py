@@ -1,0 +1,343 @@
+"""Control valve models: healthy, deadband and three stiction models.
+
+Each valve is a small parameter holder; the stepping itself is one compiled
+function, :func:`valve_step`, selected by an integer ``kind`` so that the
+closed loop can run every valve type inside one numba kernel. Positions and
+parameters are in % of the valve span.
+
+State vector (``STATE_SIZE`` floats) used by the kernel:
+``[y, u_prev, du_sign_prev, stuck, direction, u_stick]``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .._validation import check_positive
+
+__all__ = [
+    "LinearValve",
+    "RelayValve",
+    "ChoudhuryValve",
+    "KanoValve",
+    "DeadbandValve",
+    "make_valve",
+    "VALVE_MODELS",
+]
+
+LINEAR, RELAY, CHOUDHURY, KANO, DEADBAND = 0, 1, 2, 3, 4
+N_PARAMS = 2
+STATE_SIZE = 6
+_Y, _UPREV, _SPREV, _STUCK, _DIR, _USTICK = range(STATE_SIZE)
+
+
+class _Valve:
+    kind = LINEAR
+    name = "linear"
+
+    def params(self):
+        """Parameter array of length ``N_PARAMS`` for the compiled kernel."""
+        return np.zeros(N_PARAMS)
+
+    def _param_dict(self):
+        return {}
+
+    def initial_state(self, position):
+        """State of a valve at rest at ``position`` with no previous motion."""
+        state = np.zeros(STATE_SIZE)
+        state[_Y] = position
+        state[_UPREV] = position
+        state[_USTICK] = position
+        state[_STUCK] = 1.0
+        return state
+
+    def simulate(self, u, initial_position=None):
+        """Valve position for an input sequence ``u`` (open loop, valve alone).
+
+        Parameters
+        ----------
+        u : array-like of shape (n_samples,)
+            Valve input (controller output), % of span.
+        initial_position : float or None, default=None
+            Position at rest before ``u[0]``; defaults to ``u[0]``.
+
+        Returns
+        -------
+        y : ndarray of shape (n_samples,)
+        """
+        u = np.asarray(u, dtype=float)
+        y0 = u[0] if initial_position is None else float(initial_position)
+        return _valve_run(self.kind, self.params(), self.initial_state(y0), u)
+
+    def __repr__(self):
+        params = ", ".join(f"{k}={v!r}" for k, v in self._param_dict().items())
+        return f"{type(self).__name__}({params})"
+
+
+class LinearValve(_Valve):
+    """Healthy valve: the stem follows the controller output exactly.
+
+    Examples
+    --------
+    >>> from sktiction.simulation import LinearValve
+    >>> LinearValve().simulate([1.0, 2.0, 3.0]).tolist()
+    [1.0, 2.0, 3.0]
+    """
+
+
+class RelayValve(_Valve):
+    """One-parameter stiction model of Hagglund (2002).
+
+    ``y[t] = y[t-1]`` if ``|u[t] - y[t-1]| <= d`` else ``u[t]``
+    (Srinivasan, Rengaswamy, Narasimhan & Miller 2005, Eq. 2). In a loop it acts
+    as a relay with hysteresis (Singhal & Salsbury 2005, Fig. 2).
+
+    Parameters
+    ----------
+    d : float
+        Stiction band ``d > 0``, % of span.
+
+    Examples
+    --------
+    >>> from sktiction.simulation import RelayValve
+    >>> RelayValve(1.0).simulate([0.0, 0.5, 1.0, 1.5, 1.7]).tolist()
+    [0.0, 0.0, 0.0, 1.5, 1.5]
+    """
+
+    kind = RELAY
+    name = "relay"
+
+    def __init__(self, d):
+        self.d = check_positive(d, "d", upper=100.0)
+
+    def params(self):
+        return np.array([self.d, 0.0])
+
+    def _param_dict(self):
+        return {"d": self.d}
+
+
+def _check_sj(S, J):
+    S = check_positive(S, "S", upper=100.0)
+    J = check_positive(J, "J", strict=False)
+    if J > S:
+        raise ValueError(f"J must satisfy 0 <= J <= S (S={S!r}); got J={J!r}.")
+    return S, J
+
+
+class ChoudhuryValve(_Valve):
+    """Two-parameter data-driven stiction model of Choudhury, Thornhill & Shah.
+
+    Choudhury, M.A.A.S., Thornhill, N.F., Shah, S.L. (2005), Modelling valve
+    stiction, *Control Engineering Practice* 13:641-658. The valve sticks
+    whenever the input velocity changes sign or becomes zero, remembering the
+    input ``x_ss`` at that moment. It slips when the input has moved more than
+    ``S`` from ``x_ss`` against the previous motion (deadband + stickband), or
+    more than ``J`` in the same direction (stickband only), and then moves to
+    ``u - sign(du) (S - J) / 2``, which produces a slip jump of ``J``. While the
+    input keeps its direction the valve slides with it (slope 1).
+
+    Parameters
+    ----------
+    S : float
+        Deadband plus stickband, ``0 < S <= 100`` % of span.
+    J : float
+        Slip jump, ``0 <= J <= S``. Choudhury's model also allows ``J > S``
+        (overshoot); it is forbidden here to keep the parameter space to the
+        cases the area-ratio papers study.
+
+    Notes
+    -----
+    With ``J = S`` the sliding offset vanishes and, when each slip is followed
+    by a reversal (the limit cycle of a loop with little delay), the model
+    equals :class:`RelayValve` with ``d = S``. From rest with no previous
+    motion the first slip needs ``S``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import ChoudhuryValve
+    >>> u = np.r_[np.linspace(50, 45, 6), np.linspace(45, 52, 8)]
+    >>> ChoudhuryValve(S=4.0, J=2.0).simulate(u).round(1).tolist()[-6:]
+    [46.0, 46.0, 46.0, 49.0, 50.0, 51.0]
+    """
+
+    kind = CHOUDHURY
+    name = "choudhury"
+
+    def __init__(self, S, J):
+        self.S, self.J = _check_sj(S, J)
+
+    def params(self):
+        return np.array([self.S, self.J])
+
+    def _param_dict(self):
+        return {"S": self.S, "J": self.J}
+
+
+class KanoValve(ChoudhuryValve):
+    """Stiction model of Kano, Maruta, Kugemoto & Shimizu (2004).
+
+    Kano, M. et al. (2004), Practical model and detection algorithm for valve
+    stiction, *IFAC DYCOPS*, Cambridge. Unlike Choudhury's model the stop
+    position ``u_s`` is only updated when a *moving* valve stops or reverses,
+    so small input wiggles while stuck do not reset the friction threshold; the
+    friction direction ``d`` is that of the last motion. A stuck valve moves
+    when ``-d (u - u_s) > S`` (reversal) or ``d (u - u_s) > J`` (same
+    direction), to ``u - d (S - J) / 2``.
+
+    Parameters
+    ----------
+    S : float
+        Static friction band (deadband + stickband), ``0 < S <= 100`` %.
+    J : float
+        Dynamic friction band (slip jump), ``0 <= J <= S`` (Kano's overshoot
+        case ``J > S`` is forbidden here).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import KanoValve
+    >>> u = np.r_[np.linspace(50, 45, 6), np.linspace(45, 52, 8)]
+    >>> KanoValve(S=4.0, J=2.0).simulate(u).round(1).tolist()[-6:]
+    [46.0, 46.0, 46.0, 49.0, 50.0, 51.0]
+    """
+
+    kind = KANO
+    name = "kano"
+
+
+class DeadbandValve(_Valve):
+    """Pure backlash (deadband) of total width ``deadband``.
+
+    The stem lags the input by ``deadband / 2`` in the direction of motion and
+    does not move until a reversal has taken up the whole band (Choudhury et
+    al. 2005, Fig. 1 without stickband).
+
+    Parameters
+    ----------
+    deadband : float
+        Total width ``> 0``, % of span.
+
+    Examples
+    --------
+    >>> from sktiction.simulation import DeadbandValve
+    >>> DeadbandValve(2.0).simulate([50.0, 52.0, 51.5, 49.0]).tolist()
+    [50.0, 51.0, 51.0, 50.0]
+    """
+
+    kind = DEADBAND
+    name = "deadband"
+
+    def __init__(self, deadband):
+        self.deadband = check_positive(deadband, "deadband", upper=100.0)
+
+    def params(self):
+        return np.array([self.deadband, 0.0])
+
+    def _param_dict(self):
+        return {"deadband": self.deadband}
+
+
+VALVE_MODELS = {
+    "linear": LinearValve,
+    "relay": RelayValve,
+    "choudhury": ChoudhuryValve,
+    "kano": KanoValve,
+    "deadband": DeadbandValve,
+}
+
+
+def make_valve(model, **params):
+    """Valve from its model name, e.g. ``make_valve("choudhury", S=4, J=1)``.
+
+    Examples
+    --------
+    >>> from sktiction.simulation import make_valve
+    >>> make_valve("relay", d=2.0)
+    RelayValve(d=2.0)
+    """
+    if model not in VALVE_MODELS:
+        raise ValueError(f"valve model must be one of {sorted(VALVE_MODELS)}; got {model!r}.")
+    return VALVE_MODELS[model](**params)
+
+
+@njit(cache=True)
+def _sign(v):
+    if v > 0:
+        return 1.0
+    if v < 0:
+        return -1.0
+    return 0.0
+
+
+@njit(cache=True)
+def valve_step(kind, par, st, u):
+    """Advance one valve by one sample; ``st`` is updated in place, returns the position."""
+    y = st[_Y]
+    if kind == LINEAR:
+        y = u
+    elif kind == RELAY:
+        if abs(u - y) > par[0]:
+            y = u
+    elif kind == DEADBAND:
+        half = 0.5 * par[0]
+        if u - y > half:
+            y = u - half
+        elif y - u > half:
+            y = u + half
+    elif kind == CHOUDHURY:
+        S = par[0]
+        J = par[1]
+        s = _sign(u - st[_UPREV])
+        if s != st[_SPREV]:
+            # velocity changed sign or vanished: the valve sticks here
+            st[_STUCK] = 1.0
+            st[_USTICK] = st[_UPREV]
+        if st[_STUCK] == 0.0:
+            y = u - s * 0.5 * (S - J)
+        elif s != 0.0:
+            thr = J if s == st[_DIR] else S
+            if abs(u - st[_USTICK]) > thr:
+                y = u - s * 0.5 * (S - J)
+                st[_STUCK] = 0.0
+                st[_DIR] = s
+        st[_SPREV] = s
+    elif kind == KANO:
+        S = par[0]
+        J = par[1]
+        du = u - st[_UPREV]
+        if du * st[_SPREV] <= 0.0 and st[_STUCK] == 0.0:
+            # a moving valve stops or reverses: remember where
+            st[_USTICK] = st[_UPREV]
+            st[_STUCK] = 1.0
+        d = st[_DIR]
+        if st[_STUCK] == 0.0:
+            y = u - d * 0.5 * (S - J)
+        elif d == 0.0:
+            if abs(u - st[_USTICK]) > S:
+                d = _sign(u - st[_USTICK])
+                y = u - d * 0.5 * (S - J)
+                st[_STUCK] = 0.0
+        elif -d * (u - st[_USTICK]) > S:
+            d = -d
+            y = u - d * 0.5 * (S - J)
+            st[_STUCK] = 0.0
+        elif d * (u - st[_USTICK]) > J:
+            y = u - d * 0.5 * (S - J)
+            st[_STUCK] = 0.0
+        st[_DIR] = d
+        st[_SPREV] = du
+    y = min(max(y, 0.0), 100.0)
+    st[_Y] = y
+    st[_UPREV] = u
+    return y
+
+
+@njit(cache=True)
+def _valve_run(kind, par, st, u):
+    out = np.empty(u.shape[0])
+    for k in range(u.shape[0]):
+        out[k] = valve_step(kind, par, st, u[k])
+    return out

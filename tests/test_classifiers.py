@@ -1,0 +1,153 @@
+"""Classifiers: accuracy on held-out simulated loops, bad input, sklearn integration."""
+
+import numpy as np
+import pandas as pd
+import pytest
+from sklearn.base import clone
+from sklearn.metrics import balanced_accuracy_score
+from sklearn.model_selection import GridSearchCV, GroupKFold, cross_val_score
+from sklearn.pipeline import make_pipeline
+
+from sktiction import (
+    AreaRatio,
+    AreaRatioClassifier,
+    ShapeLibraryClassifier,
+    TemplateDistances,
+    pretrained_classifier,
+)
+from sktiction.classifiers import SHAPE_LIBRARY
+from sktiction.datasets import make_loops
+
+TRAIN_SEED, TEST_SEED = 0, 12345
+
+
+@pytest.fixture(scope="module")
+def held_out():
+    X, y, meta = make_loops(400, n_samples=2000, random_state=TEST_SEED, return_meta=True)
+    return X, y, meta
+
+
+@pytest.fixture(scope="module")
+def learned():
+    return pretrained_classifier(random_state=TRAIN_SEED)
+
+
+def test_learned_classifier_balanced_accuracy(held_out, learned):
+    X, y, _ = held_out
+    assert balanced_accuracy_score(y, learned.predict(X)) >= 0.95
+
+
+@pytest.mark.parametrize("clf", [AreaRatioClassifier(threshold=0.5), ShapeLibraryClassifier()])
+def test_rule_based_balanced_accuracy(held_out, clf):
+    X, y, _ = held_out
+    assert balanced_accuracy_score(y, clf.fit(X, y).predict(X)) >= 0.85
+
+
+def test_learned_does_not_equate_no_oscillation_with_health(held_out, learned):
+    # Sticky loops whose window holds no cycle must still be found by the learned model.
+    X, y, meta = held_out
+    quiet = AreaRatio().fit_transform(X)[:, -1] == 0
+    sticky_quiet = quiet & (y == 1)
+    if sticky_quiet.sum() < 5:
+        pytest.skip("too few sticky loops without oscillation in this sample")
+    assert learned.predict(X[sticky_quiet]).mean() >= 0.5
+
+
+def test_area_ratio_rule_is_r_minus_one_minus_d(held_out):
+    X, y, _ = held_out
+    clf = AreaRatioClassifier(threshold=0.7).fit(X[:40], y[:40])
+    r = AreaRatio().fit_transform(X[:40])[:, 0]
+    score = clf.decision_function(X[:40])
+    ok = np.isfinite(r)
+    assert np.allclose(score[ok], r[ok] - 1.7)
+    assert np.all(clf.predict(X[:40])[ok] == (r[ok] > 1.7))
+
+
+def test_shape_library_confidence_is_share_of_sticky_cycles(held_out):
+    X, y, _ = held_out
+    clf = ShapeLibraryClassifier(loop_type="flow").fit(X[:30], y[:30])
+    table = clf.templates_.cycle_table(X[:30])
+    report = clf.diagnose(X[:30])
+    for loop, cycles in table.groupby("loop"):
+        if len(cycles) < clf.min_cycles:
+            continue
+        pairs = zip(cycles.op_shape, cycles.pv_shape)
+        sticky = [pair in SHAPE_LIBRARY["flow"] for pair in pairs]
+        assert report.loc[loop, "score"] == pytest.approx(np.mean(sticky))
+        if any(sticky):
+            pp = cycles.loc[sticky, "op_peak_to_peak"]
+            assert report.loc[loop, "stiction_size_max"] == pytest.approx(pp.max())
+            assert report.loc[loop, "stiction_size_mean"] == pytest.approx(pp.mean())
+
+
+def test_stiction_size_tracks_simulated_band():
+    # The OP peak-to-peak of sticky cycles grows with the stiction band S.
+    X, y, meta = make_loops(
+        120, n_samples=3000, stiction_fraction=1.0, random_state=7, return_meta=True
+    )
+    size = ShapeLibraryClassifier().fit(X, y).stiction_size(X)["stiction_size_mean"]
+    s = meta["S"].to_numpy(dtype=float)
+    ok = size.notna().to_numpy() & np.isfinite(s)
+    assert ok.sum() >= 30
+    rho = pd.Series(size[ok].to_numpy()).corr(pd.Series(s[ok]), method="spearman")
+    assert rho > 0.5
+
+
+@pytest.mark.parametrize("clf", [AreaRatioClassifier(), ShapeLibraryClassifier()])
+def test_bad_loops_get_zero_with_reason_in_a_batch(clf):
+    X, y = make_loops(4, n_samples=1500, stiction_fraction=1.0, random_state=3)
+    bad = X.copy()
+    bad[0, 100:140, :] = np.nan  # gap
+    bad[1, :, 0] = 5.0  # constant PV
+    bad[2, 30:, :] = np.nan  # too short: padding after 30 samples
+    report = clf.fit(X, y).diagnose(bad)
+    assert report.loc[:2, "prediction"].eq(0).all()
+    assert report.loc[:2, "reason"].tolist() == ["nan_gap", "constant", "too_short"]
+
+
+def test_shape_library_without_op_says_missing_op():
+    X, y = make_loops(3, n_samples=1500, random_state=1)
+    report = ShapeLibraryClassifier().fit(X, y).diagnose(X[:, :, :1])
+    assert report["reason"].eq("missing_op").all()
+    assert report["prediction"].eq(0).all()
+
+
+def test_bad_parameters_raise():
+    X, y = make_loops(2, n_samples=1000, random_state=1)
+    with pytest.raises(ValueError, match="threshold"):
+        AreaRatioClassifier(threshold=-1).fit(X, y)
+    with pytest.raises(ValueError, match="loop_type"):
+        ShapeLibraryClassifier(loop_type="steam").fit(X, y)
+    with pytest.raises(ValueError, match="labels"):
+        AreaRatioClassifier().fit(X, [0, 2])
+
+
+def test_pipeline_grid_search_cross_val_clone(held_out):
+    X, y, meta = held_out
+    X, y, groups = X[:80], y[:80], np.arange(80) % 5
+    grid = GridSearchCV(
+        AreaRatioClassifier(),
+        {"threshold": [0.3, 1.0], "area_ratio__filter": [None, "horch"]},
+        cv=GroupKFold(n_splits=2),
+        scoring="balanced_accuracy",
+    ).fit(X, y, groups=groups)
+    assert grid.best_params_["threshold"] in (0.3, 1.0)
+    shape_grid = GridSearchCV(
+        ShapeLibraryClassifier(),
+        {"templates__n_points": [32, 64]},
+        cv=2,
+        scoring="balanced_accuracy",
+    ).fit(X, y)
+    assert set(shape_grid.cv_results_["param_templates__n_points"]) == {32, 64}
+    scores = cross_val_score(ShapeLibraryClassifier(), X, y, cv=2)
+    assert scores.shape == (2,) and np.all((scores >= 0) & (scores <= 1))
+    twin = clone(AreaRatioClassifier(threshold=0.8))
+    assert twin.get_params()["threshold"] == 0.8 and not hasattr(twin, "classes_")
+
+
+def test_transformers_in_a_pipeline_with_pandas_output(held_out):
+    X, _, _ = held_out
+    pipe = make_pipeline(TemplateDistances()).set_output(transform="pandas")
+    out = pipe.fit_transform(X[:5])
+    assert isinstance(out, pd.DataFrame)
+    assert "op_share_triangular" in out.columns and len(out) == 5
