@@ -10,7 +10,13 @@ from .classifiers import (
     make_learned_classifier,
     pretrained_classifier,
 )
-from .features import AreaRatio, LoopDescriptors, TemplateDistances, cycle_table
+from .features import (
+    AreaRatio,
+    LoopDescriptors,
+    StictionModelFit,
+    TemplateDistances,
+    cycle_table,
+)
 
 __version__ = "0.1.0"
 
@@ -19,6 +25,7 @@ __all__ = [
     "AreaRatioClassifier",
     "LoopDescriptors",
     "ShapeLibraryClassifier",
+    "StictionModelFit",
     "TemplateDistances",
     "cycle_table",
     "make_learned_classifier",

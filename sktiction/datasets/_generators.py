@@ -114,7 +114,7 @@ def make_loops(
     S_range=(0.5, 10.0),
     snr_db_range=(10.0, 40.0),
     period_range=(20.0, 200.0),
-    slip_fraction=0.25,
+    slip_fraction=0.0,
     random_state=None,
     return_meta=False,
 ):
@@ -185,9 +185,10 @@ def make_loops(
         Signal-to-noise ratio of the measurement noise in dB.
     period_range : tuple of float, default=(20.0, 200.0)
         Target oscillation period in samples (2 < low <= high).
-    slip_fraction : float, default=0.25
+    slip_fraction : float, default=0.0
         Share (0-1) of stiction loops that show slips during setpoint moves
-        rather than a sustained limit cycle.
+        rather than a sustained limit cycle. The seeds' methods need a cycle, so
+        the default leaves these out; training sets for plant data want them.
     random_state : None, int or numpy.random.Generator, default=None
         Seed for reproducible output.
     return_meta : bool, default=False

@@ -1,0 +1,157 @@
+"""Signal helpers for cycle analysis: noise level, dominant period, mean removal, filters."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+def noise_std(x):
+    """Robust noise standard deviation from second differences.
+
+    White noise of variance s**2 gives second differences of variance 6 s**2; the
+    median absolute deviation ignores the few large differences of jumps and steps,
+    and a smooth oscillation of P samples per cycle is scaled by (2 pi / P)**2 there.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.cycles import noise_std
+    >>> rng = np.random.default_rng(0)
+    >>> round(noise_std(np.sin(np.arange(4000) / 50) + rng.normal(0, 0.1, 4000)), 2)
+    0.1
+    """
+    d2 = np.diff(np.asarray(x, dtype=float), 2)
+    if d2.size == 0:
+        return 0.0
+    return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / np.sqrt(6.0))
+
+
+def autocorrelation(x, max_lag):
+    """Normalised autocorrelation function of a mean-removed signal, lags 0..max_lag."""
+    x = np.asarray(x, dtype=float)
+    x = x - x.mean()
+    n = x.size
+    f = np.fft.rfft(x, 2 * n)
+    r = np.fft.irfft(f * np.conj(f))[: max_lag + 1]
+    return r / r[0] if r[0] > 0 else np.zeros(max_lag + 1)
+
+
+def dominant_period(x):
+    """Period (samples) and strength of the dominant oscillation, from the ACF.
+
+    The signal is first detrended linearly; the period is the lag of the highest
+    ACF value in its first positive lobe after the first zero crossing (later lobes
+    hold multiples of the period); the strength is that ACF value (0-1). Returns
+    ``(nan, 0.0)`` when the ACF never comes back above zero.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.cycles import dominant_period
+    >>> period, strength = dominant_period(np.sin(2 * np.pi * np.arange(2000) / 80))
+    >>> round(period), strength > 0.9
+    (80, True)
+    """
+    x = np.asarray(x, dtype=float)
+    n = x.size
+    t = np.arange(n)
+    x = x - np.polyval(np.polyfit(t, x, 1), t)
+    r = autocorrelation(x, n // 2)
+    neg = np.flatnonzero(r < 0)
+    if neg.size == 0:
+        return np.nan, 0.0
+    pos = neg[0] + np.flatnonzero(r[neg[0] :] > 0)
+    if pos.size == 0:
+        return np.nan, 0.0
+    after = pos[0] + np.flatnonzero(r[pos[0] :] < 0)
+    end = after[0] if after.size else r.size
+    lag = pos[0] + int(np.argmax(r[pos[0] : end]))
+    return float(lag), float(r[lag])
+
+
+def moving_average(x, window):
+    """Centred moving average with edge values repeated (same length as ``x``)."""
+    w = int(max(1, round(window)))
+    if w == 1:
+        return np.asarray(x, dtype=float).copy()
+    left, right = w // 2, w - 1 - w // 2
+    padded = np.concatenate([np.full(left, x[0]), x, np.full(right, x[-1])])
+    c = np.concatenate([[0.0], np.cumsum(padded)])
+    return (c[w:] - c[:-w]) / w
+
+
+def remove_mean(x, period):
+    """Subtract a moving mean over one oscillation period.
+
+    A moving average over exactly one period has zeros at the oscillation frequency
+    and all its harmonics, so it removes the cycle whatever its shape while keeping
+    slower drift and setpoint moves; the envelope mean of seed 001 (spline through
+    maxima and minima) needs clean extrema, which noise and flat tops destroy.
+    Without a period a straight line is removed.
+    """
+    x = np.asarray(x, dtype=float)
+    if not np.isfinite(period) or period < 2 or period > x.size / 2:
+        t = np.arange(x.size)
+        return x - np.polyval(np.polyfit(t, x, 1), t)
+    return x - moving_average(x, period)
+
+
+def horch_filter(x, period, ts=1.0):
+    """Horch's first-order low-pass filter, cut-off at three times the oscillation frequency.
+
+    Seed 000 Eq. 23: ``H(q^-1) = (1 - c) / (1 - c q^-1)`` with
+    ``c = exp(-3 w_osc Ts)``, ``w_osc = 2 pi / (period Ts)``. It is run forwards and
+    backwards so the filtered signal is not delayed (peaks keep their place).
+    """
+    x = np.asarray(x, dtype=float)
+    if not np.isfinite(period) or period <= 0:
+        return x.copy()
+    c = np.exp(-3.0 * 2.0 * np.pi / period)
+    y = _first_order(x, c)
+    return _first_order(y[::-1], c)[::-1]
+
+
+@njit(cache=True, nogil=True)
+def _first_order(x, c):
+    y = np.empty_like(x)
+    y[0] = x[0]
+    for k in range(1, x.size):
+        y[k] = c * y[k - 1] + (1.0 - c) * x[k]
+    return y
+
+
+@njit(cache=True, nogil=True)
+def schmitt_crossings(x, h):
+    """Zero crossings confirmed by a swing beyond +-h (a Schmitt trigger).
+
+    A crossing counts only once the signal, after crossing zero, reaches the other
+    threshold before coming back: noise around zero cannot multiply crossings. The
+    crossing is placed at the last sign change before the threshold was reached,
+    as a fractional index found by linear interpolation.
+
+    Returns an array of fractional indices and an array of the signs entered
+    (+1: the signal went positive).
+    """
+    n = x.size
+    out = np.empty(n)
+    signs = np.empty(n, dtype=np.int64)
+    k = 0
+    state = 0
+    last = -1.0
+    for i in range(1, n):
+        if (x[i - 1] <= 0.0 < x[i]) or (x[i - 1] >= 0.0 > x[i]):
+            last = i - 1 + x[i - 1] / (x[i - 1] - x[i])
+        if x[i] > h and state != 1:
+            if state == -1 and last >= 0:
+                out[k] = last
+                signs[k] = 1
+                k += 1
+            state = 1
+        elif x[i] < -h and state != -1:
+            if state == 1 and last >= 0:
+                out[k] = last
+                signs[k] = -1
+                k += 1
+            state = -1
+    return out[:k], signs[:k]
