@@ -10,6 +10,8 @@ from __future__ import annotations
 import numbers
 
 import numpy as np
+from sklearn.utils import check_array
+from sklearn.utils.validation import validate_data
 
 CHANNELS = ("pv", "op", "sp")
 PV, OP, SP = 0, 1, 2
@@ -36,7 +38,7 @@ def check_random_state_seed(random_state):
     )
 
 
-def check_loops(X, *, name="X", allow_nd=True):
+def check_loops(X, *, name="X"):
     """Return loops as a float array ``(n_loops, n_samples, 3)``.
 
     Parameters
@@ -44,11 +46,9 @@ def check_loops(X, *, name="X", allow_nd=True):
     X : array-like or pandas.DataFrame
         ``(n_loops, n_samples, n_channels)`` with channels PV, OP, SP (1 to 3
         channels; missing trailing channels are filled with NaN), or
-        ``(n_loops, n_samples)`` for PV alone, or ``(n_samples,)`` for one PV series.
+        ``(n_loops, n_samples)`` for PV alone.
     name : str, default="X"
         Name used in error messages.
-    allow_nd : bool, default=True
-        Accept 3-D input. When False only 1-D and 2-D input is accepted.
 
     Returns
     -------
@@ -58,10 +58,10 @@ def check_loops(X, *, name="X", allow_nd=True):
     Raises
     ------
     TypeError
-        If the values are not numeric.
+        If the values are not numeric, or X is sparse.
     ValueError
-        If the array is empty, has more than three channels or more than three
-        dimensions, or holds infinite values.
+        If X is 1-D or more than 3-D, empty, has more than three channels, or
+        holds infinite or complex values.
 
     Examples
     --------
@@ -70,34 +70,23 @@ def check_loops(X, *, name="X", allow_nd=True):
     >>> check_loops(np.zeros((2, 5))).shape
     (2, 5, 3)
     """
-    if hasattr(X, "to_numpy") and hasattr(X, "dtypes"):
+    if hasattr(X, "dtypes") and hasattr(X, "columns"):
         bad = [str(c) for c, dt in zip(X.columns, X.dtypes) if not np.issubdtype(dt, np.number)]
         if bad:
             raise TypeError(f"{name} has non-numeric columns: {', '.join(bad)}.")
-        X = X.to_numpy(dtype=float)
-    arr = np.asarray(X)
-    if arr.dtype == object or not (
-        np.issubdtype(arr.dtype, np.number) or np.issubdtype(arr.dtype, np.bool_)
-    ):
+    if np.ndim(X) != 3:
+        # 2-D input goes through scikit-learn's own checks and messages
+        arr = check_array(
+            X, dtype=np.float64, ensure_all_finite="allow-nan", input_name=name
+        )[:, :, None]
+    else:
+        arr = np.asarray(X)
+        if np.iscomplexobj(arr):
+            raise ValueError(f"Complex data not supported: {name} holds complex values.")
         try:
-            arr = arr.astype(float)
+            arr = np.array(arr, dtype=np.float64)
         except (TypeError, ValueError) as exc:
             raise TypeError(f"{name} must hold numbers; got dtype {arr.dtype}.") from exc
-    if np.iscomplexobj(arr):
-        raise TypeError(f"{name} must hold real numbers; got complex values.")
-    arr = np.array(arr, dtype=float)
-    if arr.ndim == 1:
-        arr = arr[None, :, None]
-    elif arr.ndim == 2:
-        arr = arr[:, :, None]
-    elif arr.ndim == 3:
-        if not allow_nd:
-            raise ValueError(f"{name} must be 1-D or 2-D; got shape {arr.shape}.")
-    else:
-        raise ValueError(
-            f"{name} must have shape (n_loops, n_samples, n_channels); got {arr.ndim} "
-            f"dimensions, shape {arr.shape}."
-        )
     n_loops, n_samples, n_channels = arr.shape
     if n_loops == 0 or n_samples == 0:
         raise ValueError(f"{name} is empty: shape {arr.shape}.")
@@ -111,6 +100,28 @@ def check_loops(X, *, name="X", allow_nd=True):
         pad = np.full((n_loops, n_samples, 3 - n_channels), np.nan)
         arr = np.concatenate([arr, pad], axis=2)
     return arr
+
+
+def validate_loops(estimator, X, *, reset):
+    """:func:`check_loops` for an estimator, recording what scikit-learn expects.
+
+    Two-dimensional input (one PV record per row) goes through
+    :func:`sklearn.utils.validation.validate_data`, which sets and checks
+    ``n_features_in_`` (the record length) and ``feature_names_in_``; 3-D loops
+    may have any length, so they set neither.
+    """
+    if np.ndim(X) == 3:
+        if reset:
+            for attr in ("n_features_in_", "feature_names_in_"):
+                if hasattr(estimator, attr):
+                    delattr(estimator, attr)
+        return check_loops(X)
+    if hasattr(X, "dtypes") and hasattr(X, "columns"):
+        check_loops(X)  # names non-numeric columns
+    X = validate_data(
+        estimator, X, reset=reset, dtype=np.float64, ensure_all_finite="allow-nan"
+    )
+    return check_loops(X)
 
 
 def loop_lengths(loops):

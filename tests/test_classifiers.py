@@ -99,7 +99,7 @@ def test_bad_loops_get_zero_with_reason_in_a_batch(clf):
     bad = X.copy()
     bad[0, 100:140, :] = np.nan  # gap
     bad[1, :, 0] = 5.0  # constant PV
-    bad[2, 30:, :] = np.nan  # too short: padding after 30 samples
+    bad[2, 15:, :] = np.nan  # too short: padding after 15 samples
     report = clf.fit(X, y).diagnose(bad)
     assert report.loc[:2, "prediction"].eq(0).all()
     assert report.loc[:2, "reason"].tolist() == ["nan_gap", "constant", "too_short"]
@@ -118,8 +118,8 @@ def test_bad_parameters_raise():
         AreaRatioClassifier(threshold=-1).fit(X, y)
     with pytest.raises(ValueError, match="loop_type"):
         ShapeLibraryClassifier(loop_type="steam").fit(X, y)
-    with pytest.raises(ValueError, match="labels"):
-        AreaRatioClassifier().fit(X, [0, 2])
+    with pytest.raises(ValueError, match="X has 2 loops but y has 3 labels"):
+        AreaRatioClassifier().fit(X, [0, 1, 1])
 
 
 def test_pipeline_grid_search_cross_val_clone(held_out):

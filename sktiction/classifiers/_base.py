@@ -6,7 +6,7 @@ import numpy as np
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, column_or_1d
 
-from .._validation import check_loops, loop_status
+from .._validation import loop_status, validate_loops
 
 #: Why a loop got no stiction verdict; ``"ok"`` when it was analysed.
 REASON_NOT_OSCILLATING = "not_oscillating"
@@ -31,25 +31,21 @@ class LoopClassifierMixin:
         X : array-like of shape (n_loops, n_samples, n_channels)
             Loops, channels PV, OP, SP, NaN-padded at the end.
         y : array-like of shape (n_loops,), default=None
-            0 (no stiction) or 1 (stiction); only checked by rule-based classifiers.
+            Labels, only checked for length and type: the rules learn nothing and
+            always answer 0 (no stiction) or 1 (stiction).
 
         Returns
         -------
         self : object
             Fitted classifier.
         """
-        loops = check_loops(X)
+        loops = validate_loops(self, X, reset=True)
         if y is not None:
             y = column_or_1d(y, warn=True)
             check_classification_targets(y)
             if len(y) != len(loops):
                 raise ValueError(
                     f"X has {len(loops)} loops but y has {len(y)} labels; they must match."
-                )
-            labels = np.unique(y)
-            if not np.isin(labels, [0, 1]).all():
-                raise ValueError(
-                    f"y must hold 0 (no stiction) and 1 (stiction); got labels {labels.tolist()}."
                 )
         self.classes_ = np.array([0, 1])
         self.n_channels_in_ = int(np.asarray(X).shape[2]) if np.ndim(X) == 3 else 1
@@ -59,9 +55,16 @@ class LoopClassifierMixin:
     def _fit_loops(self, loops, y):
         return None
 
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True  # NaN pads loops of unequal length
+        tags.input_tags.three_d_array = True
+        tags.target_tags.required = False  # the rules learn nothing from y
+        return tags
+
     def _checked(self, X):
         check_is_fitted(self, "classes_")
-        return check_loops(X)
+        return validate_loops(self, X, reset=False)
 
     def diagnose(self, X):
         """Per-loop verdict with the evidence behind it.

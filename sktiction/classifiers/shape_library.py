@@ -6,6 +6,7 @@ import numpy as np
 import pandas as pd
 from sklearn.base import BaseEstimator, ClassifierMixin, clone
 
+from .._validation import OP
 from ..features import TemplateDistances
 from ._base import REASON_NOT_OSCILLATING, LoopClassifierMixin
 
@@ -128,11 +129,13 @@ class ShapeLibraryClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator
             raise ValueError(f"min_cycles must be an integer >= 1; got {self.min_cycles!r}.")
         templates = self.templates if self.templates is not None else TemplateDistances()
         self.templates_ = clone(templates).set_params(signals=("op", "pv"))
-        self.templates_.fit(loops)
+        self.templates_._validate_params()
 
     def _sticky_cycles(self, loops):
         """The cycle table with ``loop_type`` and ``sticky`` per cycle."""
-        table = self.templates_.cycle_table(loops)
+        if np.isnan(loops[:, :, OP]).all():  # no OP at all: every loop says missing_op
+            return pd.DataFrame()
+        table = self.templates_.fit(loops).cycle_table(loops)
         if table.empty:
             return table.assign(loop_type=pd.Series(dtype=str), sticky=pd.Series(dtype=bool))
         if self.loop_type == "auto":

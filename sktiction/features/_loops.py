@@ -6,7 +6,7 @@ import numpy as np
 from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
-from .._validation import OP, PV, SP, check_loops, loop_lengths, loop_status
+from .._validation import OP, PV, SP, loop_lengths, loop_status, validate_loops
 
 
 def control_error(loops, i, n):
@@ -27,8 +27,9 @@ def has_channel(loops, c):
 class LoopTransformer(TransformerMixin, BaseEstimator):
     """Base of the per-loop transformers: stateless ``fit``, NaN rows for bad loops.
 
-    Subclasses define ``feature_names`` (tuple ending in ``oscillating``),
-    ``_needs_op`` and ``_transform_loop(loops, i, n)`` returning one row.
+    Subclasses define ``feature_names`` (a tuple; an ``oscillating`` column is 0
+    for loops that cannot be analysed), ``_needs_op`` and
+    ``_transform_loop(loops, i, n)`` returning one row.
     """
 
     feature_names = ()
@@ -36,6 +37,12 @@ class LoopTransformer(TransformerMixin, BaseEstimator):
 
     def _validate_params(self):
         return None
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True  # NaN pads loops of unequal length
+        tags.input_tags.three_d_array = True
+        return tags
 
     def fit(self, X, y=None):
         """Check parameters and input; nothing is learned from the data.
@@ -53,7 +60,7 @@ class LoopTransformer(TransformerMixin, BaseEstimator):
             The fitted transformer.
         """
         self._validate_params()
-        loops = check_loops(X)
+        loops = validate_loops(self, X, reset=True)
         self._check_channels(loops)
         self.n_channels_in_ = int(np.shape(X)[2]) if np.ndim(X) == 3 else 1
         return self
@@ -76,15 +83,14 @@ class LoopTransformer(TransformerMixin, BaseEstimator):
         Returns
         -------
         features : ndarray of shape (n_loops, n_features)
-            NaN (and ``oscillating = 0``) for loops that do not oscillate or
-            cannot be analysed.
+            NaN (and ``oscillating = 0``) for loops that cannot be analysed.
         """
         check_is_fitted(self, "n_channels_in_")
-        loops = check_loops(X)
+        loops = validate_loops(self, X, reset=False)
         self._check_channels(loops)
         out = np.full((len(loops), len(self.feature_names)), np.nan)
-        osc = self.feature_names.index("oscillating")
-        out[:, osc] = 0.0
+        if "oscillating" in self.feature_names:
+            out[:, self.feature_names.index("oscillating")] = 0.0
         status = loop_status(loops, require_op=self._needs_op)
         for i, n in enumerate(loop_lengths(loops)):
             if status[i] == "ok":

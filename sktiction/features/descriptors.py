@@ -8,10 +8,9 @@ setpoint move, and such a window has no cycles to match.
 from __future__ import annotations
 
 import numpy as np
-from sklearn.base import BaseEstimator, TransformerMixin
-from sklearn.utils.validation import check_is_fitted
 
-from .._validation import OP, PV, check_loops, loop_lengths, loop_status
+from .._validation import OP, PV
+from ._loops import LoopTransformer
 
 FEATURES = (
     "ccf_zero_lag",
@@ -66,7 +65,7 @@ def _ccf_features(pv, op, max_lag):
     return float(ccf[max_lag] / abs(ccf[peak])), float(lags[peak] / max_lag)
 
 
-class LoopDescriptors(TransformerMixin, BaseEstimator):
+class LoopDescriptors(LoopTransformer):
     """Cycle-free descriptors of each loop: CCF shape, stick-slip jumps, saturation.
 
     Columns:
@@ -100,67 +99,25 @@ class LoopDescriptors(TransformerMixin, BaseEstimator):
     True
     """
 
+    feature_names = FEATURES
+
     def __init__(self, max_lag=100):
         self.max_lag = max_lag
 
-    def fit(self, X, y=None):
-        """Record the input; nothing is learned.
+    def _validate_params(self):
+        if int(self.max_lag) != self.max_lag or self.max_lag < 1:
+            raise ValueError(f"max_lag must be an integer >= 1; got {self.max_lag!r}.")
 
-        Parameters
-        ----------
-        X : array-like of shape (n_loops, n_samples, n_channels)
-            Loops, channels PV, OP, SP.
-        y : ignored
-
-        Returns
-        -------
-        self : object
-        """
-        self.n_channels_in_ = int(np.shape(X)[2]) if np.ndim(X) == 3 else 1
-        check_loops(X)
-        return self
-
-    def transform(self, X):
-        """Compute the descriptors.
-
-        Parameters
-        ----------
-        X : array-like of shape (n_loops, n_samples, n_channels)
-            Loops, channels PV, OP, SP.
-
-        Returns
-        -------
-        features : ndarray of shape (n_loops, 7)
-            See the class docstring for the columns.
-        """
-        check_is_fitted(self, "n_channels_in_")
-        loops = check_loops(X)
-        out = np.full((len(loops), len(FEATURES)), np.nan)
-        status = loop_status(loops)
-        for i, n in enumerate(loop_lengths(loops)):
-            if status[i] != "ok":
-                continue
-            pv = loops[i, :n, PV]
-            out[i, 2] = _jump_share(pv)
-            op = loops[i, :n, OP]
-            if np.isnan(op).any() or np.ptp(op) == 0:
-                continue
-            out[i, :2] = _ccf_features(pv, op, max(1, min(int(self.max_lag), n // 4)))
-            out[i, 3] = _jump_share(op)
-            out[i, 4] = out[i, 2] / out[i, 3] if out[i, 3] > 0 else np.nan
-            out[i, 5] = np.mean((op <= 0.0) | (op >= 100.0))
-            out[i, 6] = _kurtosis(np.diff(pv)) - _kurtosis(np.diff(op))
-        return out
-
-    def get_feature_names_out(self, input_features=None):
-        """Names of the output columns.
-
-        Parameters
-        ----------
-        input_features : ignored
-
-        Returns
-        -------
-        names : ndarray of str
-        """
-        return np.asarray(FEATURES, dtype=object)
+    def _transform_loop(self, loops, i, n):
+        row = np.full(len(FEATURES), np.nan)
+        pv = loops[i, :n, PV]
+        row[2] = _jump_share(pv)
+        op = loops[i, :n, OP]
+        if np.isnan(op).any() or np.ptp(op) == 0:
+            return row
+        row[:2] = _ccf_features(pv, op, max(1, min(int(self.max_lag), n // 4)))
+        row[3] = _jump_share(op)
+        row[4] = row[2] / row[3] if row[3] > 0 else np.nan
+        row[5] = np.mean((op <= 0.0) | (op >= 100.0))
+        row[6] = _kurtosis(np.diff(pv)) - _kurtosis(np.diff(op))
+        return row

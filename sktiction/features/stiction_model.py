@@ -18,10 +18,9 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
-from sklearn.base import BaseEstimator, TransformerMixin
-from sklearn.utils.validation import check_is_fitted
 
-from .._validation import OP, PV, check_loops, loop_lengths, loop_status
+from .._validation import OP, PV
+from ._loops import LoopTransformer
 
 FEATURES = ("stiction_fit_gain", "stiction_fit_band", "stiction_fit_band_share")
 
@@ -106,7 +105,7 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     return 1.0 - sses[best] / base, float(fracs[best] * span)
 
 
-class StictionModelFit(TransformerMixin, BaseEstimator):
+class StictionModelFit(LoopTransformer):
     """Evidence of stiction from fitting a valve model, with or without oscillation.
 
     For each loop, searches the dead band d of a valve model (the play operator)
@@ -133,61 +132,17 @@ class StictionModelFit(TransformerMixin, BaseEstimator):
     (2, 3)
     """
 
+    feature_names = FEATURES
+    _needs_op = True
+
     def __init__(self, n_lags=8):
         self.n_lags = n_lags
 
-    def fit(self, X, y=None):
-        """Check the input; nothing is learned.
-
-        Parameters
-        ----------
-        X : array-like of shape (n_loops, n_samples, n_channels)
-            Loops, channels PV, OP, SP.
-        y : ignored
-
-        Returns
-        -------
-        self : object
-        """
+    def _validate_params(self):
         if int(self.n_lags) != self.n_lags or self.n_lags < 1:
             raise ValueError(f"n_lags must be an integer >= 1; got {self.n_lags!r}.")
-        check_loops(X)
-        self.n_channels_in_ = int(np.shape(X)[2]) if np.ndim(X) == 3 else 1
-        return self
 
-    def transform(self, X):
-        """Fit the stiction model to each loop.
-
-        Parameters
-        ----------
-        X : array-like of shape (n_loops, n_samples, n_channels)
-            Loops, channels PV, OP, SP.
-
-        Returns
-        -------
-        features : ndarray of shape (n_loops, 3)
-        """
-        check_is_fitted(self, "n_channels_in_")
-        loops = check_loops(X)
-        out = np.full((len(loops), len(FEATURES)), np.nan)
-        status = loop_status(loops, require_op=True)
-        for i, n in enumerate(loop_lengths(loops)):
-            if status[i] != "ok":
-                continue
-            pv, op = loops[i, :n, PV], loops[i, :n, OP]
-            gain, band = fit_stiction_band(pv, op, n_lags=self.n_lags)
-            out[i] = gain, band, band / np.ptp(op) if np.isfinite(band) else np.nan
-        return out
-
-    def get_feature_names_out(self, input_features=None):
-        """Names of the output columns.
-
-        Parameters
-        ----------
-        input_features : ignored
-
-        Returns
-        -------
-        names : ndarray of str
-        """
-        return np.asarray(FEATURES, dtype=object)
+    def _transform_loop(self, loops, i, n):
+        pv, op = loops[i, :n, PV], loops[i, :n, OP]
+        gain, band = fit_stiction_band(pv, op, n_lags=self.n_lags)
+        return [gain, band, band / np.ptp(op) if np.isfinite(band) else np.nan]

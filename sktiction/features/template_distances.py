@@ -208,7 +208,7 @@ class TemplateDistances(LoopTransformer):
             err = analyze_cycles(control_error(loops, i, n), min_cycles=self.min_cycles)
             ratios, halves = half_cycle_ratios(err)
             mids = (err.crossings[halves] + err.crossings[halves + 1]) / 2 if halves.size else []
-            for c, (a, m, b) in enumerate(bounds):
+            for c, (a, _m, b) in enumerate(bounds):
                 seg = ana.centred[int(np.floor(a)) : int(np.ceil(b)) + 1]
                 inside = (np.asarray(mids) >= a) & (np.asarray(mids) < b)
                 r = ratios[inside] if np.any(inside) else np.array([np.nan])
