@@ -11,14 +11,14 @@ import numpy as np
 import pandas as pd
 from sklearn.model_selection import GridSearchCV, GroupKFold
 
-from sktiction import AreaRatioClassifier
+from sktiction import AreaRatio, AreaRatioClassifier
 from sktiction.datasets import make_loops
 
 X, y, meta = make_loops(600, n_samples=2000, random_state=0, return_meta=True)
 groups = meta["plant"].astype(str).to_numpy()
 
 search = GridSearchCV(
-    AreaRatioClassifier(),
+    AreaRatioClassifier(area_ratio=AreaRatio()),
     {"threshold": np.round(np.arange(0.0, 1.6, 0.1), 2), "area_ratio__filter": [None, "horch"]},
     cv=GroupKFold(n_splits=min(5, len(np.unique(groups)))),
     scoring="balanced_accuracy",

@@ -182,6 +182,22 @@ class ShapeLibraryClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator
         report.loc[(report["n_cycles"] > 0) & ~enough, "reason"] = "too_few_cycles"
         return report
 
+    def cycle_table(self, X):
+        """The per-cycle table of :meth:`TemplateDistances.cycle_table`, with verdicts.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP.
+
+        Returns
+        -------
+        table : pandas.DataFrame
+            One row per analysed cycle, plus ``loop_type`` (the library row used)
+            and ``sticky`` (its OP/PV shapes are in that row).
+        """
+        return self._sticky_cycles(self._checked(X))
+
     def predict_proba(self, X):
         """Confidence of stiction: share of sticky cycles (seed 001).
 
