@@ -76,6 +76,22 @@ def _regular_runs(periods, tolerance):
     return runs
 
 
+def _peaks(centred, smooth, crossings, signs, width):
+    """Extreme of each half-cycle: located on the smoothed signal, refined on the raw one.
+
+    Smoothing keeps a noise spike from being taken for the peak, but it also moves a
+    sharp, lopsided peak (the cusp of a stiction cycle) towards the flatter side; the
+    raw extreme within one smoothing width of the smoothed one puts it back.
+    """
+    out = np.empty(max(crossings.size - 1, 0), dtype=int)
+    for k in range(out.size):
+        a, b, s = int(np.ceil(crossings[k])), int(np.floor(crossings[k + 1])), signs[k]
+        p = a + int(np.argmax(s * smooth[a : b + 1]))
+        lo, hi = max(a, p - width), min(b, p + width)
+        out[k] = lo + int(np.argmax(s * centred[lo : hi + 1]))
+    return out
+
+
 def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.2):
     """Detect and time-localise the oscillation of one signal, cycle by cycle.
 
@@ -130,13 +146,7 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     smooth = moving_average(centred, width) if sigma > 0 else centred
     h = max(hysteresis * sigma / np.sqrt(width), 1e-12 * max(np.ptp(centred), 1e-300))
     crossings, signs = schmitt_crossings(smooth, h)
-    peaks = np.array(
-        [
-            int(np.ceil(a)) + int(np.argmax(s * smooth[int(np.ceil(a)) : int(np.floor(b)) + 1]))
-            for a, b, s in zip(crossings[:-1], crossings[1:], signs[:-1])
-        ],
-        dtype=int,
-    )
+    peaks = _peaks(centred, smooth, crossings, signs, width)
     analysis = CycleAnalysis(centred, smooth, crossings, signs, peaks, acf_strength=strength)
     if crossings.size < 3:
         return analysis
