@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from ._signal import dominant_period, moving_average, noise_std, remove_mean, schmitt_crossings
 
@@ -62,20 +63,26 @@ class CycleAnalysis:
 
 
 def _regular_runs(periods, tolerance):
-    """Runs of consecutive full cycles whose periods agree with their run's median."""
-    runs, start = [], 0
-    for k in range(1, len(periods) + 1):
-        if k < len(periods):
-            ref = np.median(periods[start : k + 1])
-            if abs(periods[k] - ref) <= tolerance * ref and abs(periods[start] - ref) <= (
-                tolerance * ref
-            ):
-                continue
-        runs.append((start, k))
-        start = k
-    return runs
+    """Runs ``(start, stop)`` of consecutive cycles whose period is regular.
+
+    A cycle is regular when its period lies within ``tolerance`` of the median of
+    its neighbourhood (itself and two cycles either side), so slow changes of the
+    period are followed while the random intervals of noise break the run.
+    """
+    n = len(periods)
+    if n == 0:
+        return []
+    if n < 3:
+        local = np.full(n, np.median(periods))
+    else:  # reflect, so a stray first or last cycle is judged by its neighbours
+        padded = np.pad(periods, 2, mode="reflect")
+        local = np.median(np.lib.stride_tricks.sliding_window_view(padded, 5), axis=1)
+    regular = np.abs(periods - local) <= tolerance * local
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], regular.astype(int), [0]])))
+    return list(zip(edges[::2], edges[1::2]))
 
 
+@njit(cache=True, nogil=True)
 def _peaks(centred, smooth, crossings, signs, width):
     """Extreme of each half-cycle: located on the smoothed signal, refined on the raw one.
 
@@ -83,12 +90,21 @@ def _peaks(centred, smooth, crossings, signs, width):
     sharp, lopsided peak (the cusp of a stiction cycle) towards the flatter side; the
     raw extreme within one smoothing width of the smoothed one puts it back.
     """
-    out = np.empty(max(crossings.size - 1, 0), dtype=int)
+    out = np.empty(max(crossings.size - 1, 0), dtype=np.int64)
     for k in range(out.size):
-        a, b, s = int(np.ceil(crossings[k])), int(np.floor(crossings[k + 1])), signs[k]
-        p = a + int(np.argmax(s * smooth[a : b + 1]))
+        a = int(np.ceil(crossings[k]))
+        b = min(int(np.floor(crossings[k + 1])), smooth.size - 1)
+        s = signs[k]
+        p = a
+        for i in range(a, b + 1):
+            if s * smooth[i] > s * smooth[p]:
+                p = i
         lo, hi = max(a, p - width), min(b, p + width)
-        out[k] = lo + int(np.argmax(s * centred[lo : hi + 1]))
+        q = lo
+        for i in range(lo, hi + 1):
+            if s * centred[i] > s * centred[q]:
+                q = i
+        out[k] = q
     return out
 
 

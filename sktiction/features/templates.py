@@ -29,25 +29,26 @@ def unit_half(shape, tau):
 
 
 def cycle_templates(split, mean_first, mean_second, n_points):
-    """The four templates of one full cycle, on ``n_points`` evenly spaced positions.
+    """The four templates of full cycles, on ``n_points`` bins each.
 
     Each half keeps the data's duration (the first half ends at fraction ``split``
     of the cycle) and its area: the template half is scaled so its mean equals the
     data half's mean (``mean_first``, ``mean_second``, signed). Matching areas
     rather than peaks keeps a single noisy sample from setting the template height.
+    Arguments may be arrays, one value per cycle.
 
     Returns
     -------
-    templates : ndarray of shape (4, n_points)
-        Rows in the order of :data:`SHAPES`.
+    templates : ndarray of shape (4, n_points), or (n_cycles, 4, n_points)
+        Shapes in the order of :data:`SHAPES`.
     """
+    split, m1, m2 = (np.asarray(v, dtype=float)[..., None] for v in (split, mean_first,
+                                                                      mean_second))
     t = (np.arange(n_points) + 0.5) / n_points  # bin centres
     first = t < split
-    tau = np.where(first, t / max(split, 1e-12), (t - split) / max(1.0 - split, 1e-12))
-    scale = np.where(first, mean_first, mean_second)
-    return np.stack(
-        [unit_half(s, tau) * scale / m for s, m in zip(SHAPES, _SHAPE_MEAN)]
-    )
+    tau = np.where(first, t / np.maximum(split, 1e-12), (t - split) / np.maximum(1 - split, 1e-12))
+    scale = np.where(first, m1, m2)
+    return np.stack([unit_half(s, tau) * scale / m for s, m in zip(SHAPES, _SHAPE_MEAN)], axis=-2)
 
 
 def resample(x, start, end, n_points, cumulative=None):
@@ -55,13 +56,16 @@ def resample(x, start, end, n_points, cumulative=None):
 
     Averaging over bins (not sampling points) lowers the noise by the square root
     of the samples per bin, which keeps DTW from warping noise into a better match.
-    ``cumulative`` may pass ``concatenate([[0], cumsum(x)])`` precomputed.
+    ``start`` and ``end`` may be arrays (one row of bins per cycle); ``cumulative``
+    may pass ``concatenate([[0], cumsum(x)])`` precomputed.
     """
     c = np.concatenate([[0.0], np.cumsum(x)]) if cumulative is None else cumulative
-    edges = np.linspace(start, end, n_points + 1)
+    start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    frac = np.linspace(0.0, 1.0, n_points + 1)
+    edges = start[..., None] + (end - start)[..., None] * frac
     # integral of the piecewise-constant signal (sample i covers [i - 0.5, i + 0.5))
     integral = np.interp(edges + 0.5, np.arange(c.size), c)
-    return np.diff(integral) / np.diff(edges)
+    return np.diff(integral, axis=-1) / np.diff(edges, axis=-1)
 
 
 def match_cycles(x, bounds, *, n_points=32, sakoe_chiba_radius=2, backend="numba"):
@@ -91,18 +95,18 @@ def match_cycles(x, bounds, *, n_points=32, sakoe_chiba_radius=2, backend="numba
     n = len(bounds)
     if n == 0:
         return np.empty((0, len(SHAPES)))
-    data = np.empty((n, n_points))
-    temps = np.empty((n, len(SHAPES), n_points))
-    cumulative = np.concatenate([[0.0], np.cumsum(x)])
-    for k, (a, m, b) in enumerate(bounds):
-        cyc = resample(x, a, b, n_points, cumulative)
-        split = (m - a) / (b - a)
-        first = (np.arange(n_points) + 0.5) / n_points < split
-        mean1 = cyc[first].mean() if first.any() else 0.0
-        mean2 = cyc[~first].mean() if (~first).any() else 0.0
-        rms = np.sqrt(np.mean(cyc**2)) or 1.0
-        data[k] = cyc / rms
-        temps[k] = cycle_templates(split, mean1 / rms, mean2 / rms, n_points)
+    a, m, b = bounds.T
+    data = resample(x, a, b, n_points)
+    split = (m - a) / (b - a)
+    first = (np.arange(n_points) + 0.5) / n_points < split[:, None]
+    n1 = np.maximum(first.sum(axis=1), 1)
+    n2 = np.maximum((~first).sum(axis=1), 1)
+    mean1 = np.where(first, data, 0.0).sum(axis=1) / n1
+    mean2 = np.where(first, 0.0, data).sum(axis=1) / n2
+    rms = np.sqrt(np.mean(data**2, axis=1))
+    rms[rms == 0] = 1.0
+    data /= rms[:, None]
+    temps = cycle_templates(split, mean1 / rms, mean2 / rms, n_points)
     A = np.repeat(data, len(SHAPES), axis=0)
     B = temps.reshape(-1, n_points)
     fn = paired_dtw if backend == "numba" else tslearn_paired_dtw

@@ -1,0 +1,99 @@
+"""Time to compute all features of one 5,000-sample loop, and the DTW share of it.
+
+Goal (GitHub issue 3): all features (AreaRatio + TemplateDistances, every cycle
+analysed) of a 5,000-sample loop in <= 20 ms median on one core, and the whole
+transform within 1.5x of tslearn's bare ``cdist_dtw`` on the same cells (one call
+per cycle and signal, the cycle against its four templates, same bins and band).
+Seed 001 reports about 3 minutes in MATLAB for one such loop with 10 cycles.
+
+Loops are simulated sticky flow-like loops (FOPTD, relay valve, AMIGO PI, noise)
+with 25 to 125 samples per cycle, so 40 to 200 cycles are analysed per loop.
+All figures come from this one run; the machine is shared, so compare ratios.
+
+Run: NUMBA_NUM_THREADS=1 python benchmarks/bench_features.py
+"""
+
+import time
+
+import numpy as np
+from tslearn.metrics import cdist_dtw
+
+from sktiction import AreaRatio, TemplateDistances
+from sktiction.datasets import make_loops
+from sktiction.features.templates import SHAPES, cycle_templates, resample
+
+N_SAMPLES = 5000
+
+
+def median_time(fn, repeats):
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times))
+
+
+def tslearn_cells(td, X):
+    """The (cycle, template) pairs of X as tslearn would be asked for them."""
+    cells = []
+    for i in range(len(X)):
+        found = td._cycles(X, i, X.shape[1])
+        if found is None:
+            continue
+        for s in td.signals:
+            analysis, bounds, _ = found[s]
+            for a, m, b in bounds:
+                cyc = resample(analysis.centred, a, b, td.n_points)
+                split = (m - a) / (b - a)
+                first = (np.arange(td.n_points) + 0.5) / td.n_points < split
+                temps = cycle_templates(split, cyc[first].mean(), cyc[~first].mean(),
+                                        td.n_points)
+                cells.append((cyc[None, :, None], temps[:, :, None]))
+    return cells
+
+
+def main():
+    X, _ = make_loops(
+        12, n_samples=N_SAMPLES, stiction_fraction=1.0, orders=(1,), period_range=(25, 125),
+        stiction_models=("relay",), random_state=0,
+    )
+    td, ar = TemplateDistances().fit(X), AreaRatio().fit(X)
+    td.transform(X[:1])
+    ar.transform(X[:1])  # compile
+    per_loop, dtw_only, cycles = [], [], []
+    for i in range(len(X)):
+        one = X[i : i + 1]
+        n_cycles = td.transform(one)[0, -3]
+        if not np.isfinite(n_cycles):
+            continue
+        t_all = median_time(lambda one=one: (td.transform(one), ar.transform(one)), 7)
+        cells = tslearn_cells(td, one)
+        radius = td.sakoe_chiba_radius
+        t_tsl = median_time(
+            lambda cells=cells: [
+                cdist_dtw(c, t, global_constraint="sakoe_chiba", sakoe_chiba_radius=radius)
+                for c, t in cells
+            ],
+            3,
+        )
+        per_loop.append(t_all)
+        dtw_only.append(t_tsl)
+        cycles.append(n_cycles)
+    per_loop, dtw_only, cycles = map(np.array, (per_loop, dtw_only, cycles))
+    ratio = per_loop / dtw_only
+    print(f"loops: {len(per_loop)} of {N_SAMPLES} samples, {cycles.min():.0f}-{cycles.max():.0f} "
+          f"cycles each ({len(SHAPES)} templates x 2 signals per cycle)")
+    print(f"all features per loop, median: {1e3 * np.median(per_loop):.1f} ms "
+          f"(goal <= 20 ms; {1e3 * np.median(per_loop) / 20:.2f}x the goal)")
+    print(f"tslearn cdist_dtw on the same cells, median: {1e3 * np.median(dtw_only):.1f} ms")
+    print(f"whole transform / tslearn cdist_dtw: median {np.median(ratio):.3f}x "
+          f"(goal <= 1.5x), worst {ratio.max():.3f}x")
+    print(f"speed-up on seed 001's ~180 s per loop (10 cycles, MATLAB): "
+          f"{180 / np.median(per_loop):,.0f}x")
+    slope = np.polyfit(cycles, per_loop * 1e3, 1)
+    print(f"cost ~ {slope[1]:.2f} ms + {slope[0]:.3f} ms per cycle (fit over these loops)")
+
+
+if __name__ == "__main__":
+    main()
