@@ -62,6 +62,7 @@ def main():
     td.transform(X[:1])
     ar.transform(X[:1])  # compile
     per_loop, dtw_only, cycles = [], [], []
+    radius = td.sakoe_chiba_radius
     for i in range(len(X)):
         one = X[i : i + 1]
         n_cycles = td.transform(one)[0, -3]
@@ -69,7 +70,6 @@ def main():
             continue
         t_all = median_time(lambda one=one: (td.transform(one), ar.transform(one)), 7)
         cells = tslearn_cells(td, one)
-        radius = td.sakoe_chiba_radius
         t_tsl = median_time(
             lambda cells=cells: [
                 cdist_dtw(c, t, global_constraint="sakoe_chiba", sakoe_chiba_radius=radius)
