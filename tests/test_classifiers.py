@@ -43,14 +43,16 @@ def test_rule_based_balanced_accuracy(held_out, clf):
     assert balanced_accuracy_score(y, clf.fit(X, y).predict(X)) >= 0.85
 
 
-def test_learned_does_not_equate_no_oscillation_with_health(held_out, learned):
-    # Sticky loops whose window holds no cycle must still be found by the learned model.
-    X, y, meta = held_out
+def test_learned_does_not_equate_no_oscillation_with_health(learned):
+    # Sticky valves that only slip during setpoint moves leave windows without a cycle;
+    # the rules must abstain there, the learned model must still find most of them.
+    X, y = make_loops(
+        80, n_samples=2000, stiction_fraction=1.0, slip_fraction=1.0, random_state=TEST_SEED
+    )
     quiet = AreaRatio().fit_transform(X)[:, -1] == 0
-    sticky_quiet = quiet & (y == 1)
-    if sticky_quiet.sum() < 5:
-        pytest.skip("too few sticky loops without oscillation in this sample")
-    assert learned.predict(X[sticky_quiet]).mean() >= 0.5
+    assert quiet.sum() >= 40
+    assert AreaRatioClassifier().fit(X, y).predict(X[quiet]).sum() == 0
+    assert learned.predict(X[quiet]).mean() >= 0.7
 
 
 def test_area_ratio_rule_is_r_minus_one_minus_d(held_out):
