@@ -18,9 +18,10 @@ import time
 import numpy as np
 from tslearn.metrics import cdist_dtw
 
-from sktiction import AreaRatio, TemplateDistances
+from sktiction import AreaRatio, TemplateDistances, pretrained_classifier
 from sktiction.datasets import make_loops
 from sktiction.features.templates import SHAPES, cycle_templates, resample
+from sktiction.reports import scan_loops
 
 N_SAMPLES = 5000
 
@@ -93,6 +94,12 @@ def main():
           f"{180 / np.median(per_loop):,.0f}x")
     slope = np.polyfit(cycles, per_loop * 1e3, 1)
     print(f"cost ~ {slope[1]:.2f} ms + {slope[0]:.3f} ms per cycle (fit over these loops)")
+    # a whole plant scan runs all three classifiers (features of the learned one included)
+    clf = pretrained_classifier(n_loops=200, n_samples=1000)
+    scan_loops(X[:1], classifier=clf)
+    t_scan = median_time(lambda: scan_loops(X, classifier=clf), 3) / len(X)
+    print(f"scan_loops, all three classifiers: {1e3 * t_scan:.1f} ms per loop, so 5,000 loops "
+          f"in {5000 * t_scan / 60:.1f} min on one core")
 
 
 if __name__ == "__main__":
