@@ -54,7 +54,7 @@ def _scan(args):
     from .datasets import read_loops
     from .reports import scan_loops
 
-    data = read_loops(args.paths, on_error="status")
+    data = read_loops(args.paths, ts=args.ts, on_error="skip")
     report = scan_loops(
         data.X, data.meta, classifier=pretrained_classifier(random_state=0),
         n_jobs=args.n_jobs, progress=not args.quiet,
@@ -89,6 +89,8 @@ def main(argv=None):
     scan = sub.add_parser("scan", help="scan historian exports or CSV files, one loop each")
     scan.add_argument("paths", nargs="+", help="files or folders (.txt historian, .csv)")
     scan.add_argument("-o", "--output", help="write the full report to this CSV file")
+    scan.add_argument("--ts", type=float, default=None,
+                      help="sampling time in seconds, for files without a time column")
     scan.add_argument("-j", "--n-jobs", type=int, default=None, help="parallel workers")
     scan.add_argument("-q", "--quiet", action="store_true", help="no progress output")
     scan.set_defaults(func=_scan)

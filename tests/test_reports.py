@@ -74,3 +74,20 @@ def test_plot_loop_draws_cycles():
     top, bottom = plot_loop(X)
     assert len(top.lines) >= 2 and len(bottom.lines) == 1
     assert len(bottom.patches) >= 2  # shaded cycles
+
+
+def test_cli_scan_reports_good_and_bad_files(tmp_path, capsys):
+    X, _ = make_loops(2, n_samples=1500, stiction_fraction=1.0, random_state=6)
+    for i in range(2):
+        pd.DataFrame({"PV": X[i, :, 0], "OP": X[i, :, 1], "SP": X[i, :, 2]}).to_csv(
+            tmp_path / f"FIC10{i}.csv", index=False
+        )
+    (tmp_path / "broken.csv").write_text("PV,OP\n1,abc\n")
+    out = tmp_path / "report.csv"
+    assert main(["scan", str(tmp_path), "--ts", "1", "-o", str(out), "-q"]) == 0
+    report = pd.read_csv(out)
+    assert len(report) == 3
+    broken = report[report["file"] == "broken.csv"].iloc[0]
+    assert broken["verdict"] == "no_verdict" and broken["input_status"] == "error"
+    assert "abc" in broken["input_reason"]
+    assert report.loc[report["file"] != "broken.csv", "status"].eq("ok").all()

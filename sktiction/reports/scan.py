@@ -94,7 +94,9 @@ def scan_loops(
         Loops, channels PV, OP, SP, NaN-padded at the end.
     meta : pandas.DataFrame or None, default=None
         One row per loop (e.g. from :func:`~sktiction.datasets.read_loops`); its
-        columns are copied in front of the report, and a ``loop_type`` column
+        columns are copied in front of the report (those named like a report
+        column get the prefix ``input_``, e.g. the reader's ``input_status``), and
+        a ``loop_type`` column
         (flow, pressure, temperature, level) selects the shape-library row.
     classifier : fitted classifier or None, default=None
         Learned classifier; ``None`` trains :func:`~sktiction.pretrained_classifier`.
@@ -144,5 +146,7 @@ def scan_loops(
         print(file=sys.stderr)
     report = pd.concat(parts, ignore_index=True)[REPORT_COLUMNS]
     if meta is not None:
+        # the reader's own status/reason (per file) must not shadow the scan's (per loop)
+        meta = meta.rename(columns={c: f"input_{c}" for c in meta.columns if c in REPORT_COLUMNS})
         report = pd.concat([meta.reset_index(drop=True), report], axis=1)
     return report
