@@ -13,6 +13,7 @@ from sktiction import (
     AreaRatioClassifier,
     ShapeLibraryClassifier,
     TemplateDistances,
+    make_learned_classifier,
     pretrained_classifier,
 )
 from sktiction.classifiers import SHAPE_LIBRARY
@@ -144,6 +145,9 @@ def test_pipeline_grid_search_cross_val_clone(held_out):
     assert set(shape_grid.cv_results_["param_templates__n_points"]) == {32, 64}
     scores = cross_val_score(ShapeLibraryClassifier(), X, y, cv=2)
     assert scores.shape == (2,) and np.all((scores >= 0) & (scores <= 1))
+    learned = make_learned_classifier(random_state=0, max_iter=20)
+    scores = cross_val_score(learned, X, y, cv=GroupKFold(n_splits=2), groups=groups)
+    assert scores.shape == (2,) and scores.min() > 0.5
     twin = clone(AreaRatioClassifier(threshold=0.8))
     assert twin.get_params()["threshold"] == 0.8 and not hasattr(twin, "classes_")
 

@@ -40,10 +40,14 @@ def _scan_chunk(loops, loop_types, learned):
     proba = learned.predict_proba(loops)[:, 1]
     status = loop_status(loops)
     reason = np.where(status != "ok", status, shape["reason"].to_numpy(dtype=object))
+    sticky = (status == "ok") & (proba >= 0.5)
+    # a size is only meaningful for a valve that is called sticky
+    size = shape[["stiction_size_mean", "stiction_size_max"]].to_numpy(dtype=float)
+    size[~sticky] = np.nan
     return pd.DataFrame(
         {
             "status": status,
-            "verdict": np.where(status == "ok", np.where(proba >= 0.5, "stiction", "no_stiction"),
+            "verdict": np.where(status == "ok", np.where(sticky, "stiction", "no_stiction"),
                                 "no_verdict"),
             "stiction_probability": np.where(status == "ok", proba, np.nan),
             "area_ratio": ar["area_ratio"].to_numpy(),
@@ -52,8 +56,8 @@ def _scan_chunk(loops, loop_types, learned):
             "shape_stiction": shape["prediction"].to_numpy(dtype=int),
             "shape_loop_type": shape["loop_type"].to_numpy(),
             "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
-            "stiction_size_mean": shape["stiction_size_mean"].to_numpy(dtype=float),
-            "stiction_size_max": shape["stiction_size_max"].to_numpy(dtype=float),
+            "stiction_size_mean": size[:, 0],
+            "stiction_size_max": size[:, 1],
             "reason": reason,
         }
     )
@@ -85,7 +89,8 @@ def scan_loops(
     Runs the three classifiers on each loop: the learned classifier gives the
     ``verdict`` and ``stiction_probability``; the area-ratio rule and the shape
     library give their own verdicts, and the shape library the stiction size (OP
-    peak-to-peak over the sticky cycles, in OP units). Loops that cannot be
+    peak-to-peak over the sticky cycles, in OP units; NaN unless the verdict is
+    stiction). Loops that cannot be
     analysed get ``status`` and ``reason`` and ``verdict = "no_verdict"``.
 
     Parameters
