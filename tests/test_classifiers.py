@@ -145,7 +145,7 @@ def test_pipeline_grid_search_cross_val_clone(held_out):
     assert set(shape_grid.cv_results_["param_templates__n_points"]) == {32, 64}
     scores = cross_val_score(ShapeLibraryClassifier(), X, y, cv=2)
     assert scores.shape == (2,) and np.all((scores >= 0) & (scores <= 1))
-    learned = make_learned_classifier(random_state=0, max_iter=20)
+    learned = make_learned_classifier(random_state=0, max_iter=30, min_samples_leaf=5)
     scores = cross_val_score(learned, X, y, cv=GroupKFold(n_splits=2), groups=groups)
     assert scores.shape == (2,) and scores.min() > 0.5
     twin = clone(AreaRatioClassifier(threshold=0.8))
