@@ -118,7 +118,8 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     lightly smoothed copy, so noise cannot multiply them; (4) half-cycles between
     crossings, their peaks, and full cycles (three consecutive crossings);
     (5) stretches of at least ``min_cycles`` consecutive full cycles whose periods
-    agree within ``tolerance`` of their median are the oscillating segments.
+    lie within ``tolerance`` of their local median (the cycle and two neighbours
+    either side) are the oscillating segments.
 
     The signal oscillates when it has such a segment, Thornhill's regularity
     factor of the cycles in segments exceeds 1 (:data:`REGULARITY_THRESHOLD`) and
@@ -167,8 +168,8 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     if crossings.size < 3:
         return analysis
     periods = crossings[2:] - crossings[:-2]  # full cycle starting at crossing k
-    # cycles starting at every other crossing would be the classic choice; starting at
-    # each positive-going crossing keeps the sign order of halves the same in a loop
+    # full cycles start at every other crossing (those of the first crossing's sign),
+    # so the halves of all cycles of a signal come in the same order
     start_ok = signs[:-2] == signs[0]
     idx = np.flatnonzero(start_ok)
     kept = []
