@@ -141,12 +141,6 @@ def loop_lengths(loops):
     return np.where(valid.any(axis=1), last, 0)
 
 
-def channel(loops, i, c):
-    """Channel ``c`` of loop ``i`` with the end padding removed (a view)."""
-    n = int(loop_lengths(loops[i : i + 1])[0])
-    return loops[i, :n, c]
-
-
 def loop_status(loops, *, min_samples=20, require_op=False):
     """Per-loop status codes: why a loop cannot be analysed, or ``"ok"``.
 

@@ -8,7 +8,7 @@ The result equals ``tslearn.metrics.dtw`` (tests check it to 1e-9).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 
 @njit(cache=True, nogil=True)
@@ -37,10 +37,10 @@ def _dtw_pair(a, b, radius):
     return np.sqrt(prev[m])
 
 
-@njit(cache=True, nogil=True, parallel=False)
+@njit(cache=True, nogil=True)
 def _paired_dtw(A, B, radius):
     out = np.empty(A.shape[0])
-    for k in prange(A.shape[0]):
+    for k in range(A.shape[0]):
         out[k] = _dtw_pair(A[k], B[k], radius)
     return out
 
