@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 from sklearn.utils import Bunch
 
-from .._validation import check_positive
+from .._validation import CHANNELS, check_positive
 
 __all__ = ["read_loops"]
 
@@ -404,14 +404,14 @@ def read_loops(paths, *, ts=None, channels=None, on_error="raise", return_frames
     X = np.full((len(files), max_len, 3), np.nan)
     for i, f in enumerate(frames):
         if f is not None:
-            X[i, : len(f)] = f[["pv", "op", "sp"]].to_numpy(dtype=float)
+            X[i, : len(f)] = f[list(CHANNELS)].to_numpy(dtype=float)
     meta = pd.DataFrame(rows).reindex(columns=_META_COLUMNS)
     meta["n_samples"] = meta["n_samples"].astype(int)
     meta["start"] = pd.to_datetime(meta["start"])
     for col in ("format", "tag", "isa", "loop_type"):
         meta[col] = meta[col].astype(object).where(meta[col].notna(), "")
     meta.loc[meta["status"] == "error", "loop_type"] = "unknown"
-    data = Bunch(X=X, meta=meta, channels=("pv", "op", "sp"))
+    data = Bunch(X=X, meta=meta, channels=CHANNELS)
     if return_frames:
         data["frames"] = frames
     return data

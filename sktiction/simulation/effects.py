@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_positive
+from .._validation import CHANNELS, check_positive
 
 __all__ = [
     "Effect",
@@ -287,7 +287,7 @@ class Quantization(Effect):
     def __init__(self, step, channels=("pv",)):
         self.step = check_positive(step, "step")
         channels = tuple(channels)
-        bad = [c for c in channels if c not in ("pv", "op", "sp")]
+        bad = [c for c in channels if c not in CHANNELS]
         if bad:
             raise ValueError(f"channels must be among ('pv', 'op', 'sp'); got {bad!r}.")
         self.channels = channels

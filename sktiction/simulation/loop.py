@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 from sklearn.utils import Bunch
 
-from .._validation import check_positive, check_random_state_seed
+from .._validation import CHANNELS, check_positive, check_random_state_seed
 from .controllers import PIController
 from .effects import EXOGENOUS_KEYS, Effect
 from .valves import N_PARAMS, STATE_SIZE, _Valve, valve_step
@@ -311,7 +311,7 @@ def simulate_loops(
             for eff in effects[j]:
                 if eff.kind == "recording":
                     sig = eff.record(sig, ts_arr[j], rng)
-            for c, key in enumerate(("pv", "op", "sp")):
+            for c, key in enumerate(CHANNELS):
                 X[j, :, c] = sig[key]
     return Bunch(pv=X[:, :, 0], op=X[:, :, 1], sp=X[:, :, 2], valve=valve, t=t, X=X)
 
