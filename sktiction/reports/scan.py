@@ -37,19 +37,21 @@ def _scan_chunk(loops, loop_types, learned):
         part = ShapeLibraryClassifier(loop_type=lt).fit(loops[idx]).diagnose(loops[idx])
         parts.append(part.set_axis(idx))
     shape = pd.concat(parts).sort_index()
-    proba = learned.predict_proba(loops)[:, 1]
-    status = loop_status(loops)
+    status = loop_status(loops, require_op=True)
+    proba = np.full(len(loops), np.nan)
+    ok = status == "ok"
+    if ok.any():  # the learned model reads OP too: only loops that can be analysed
+        proba[ok] = learned.predict_proba(loops[ok])[:, 1]
     reason = np.where(status != "ok", status, shape["reason"].to_numpy(dtype=object))
-    sticky = (status == "ok") & (proba >= 0.5)
+    sticky = ok & (proba >= 0.5)
     # a size is only meaningful for a valve that is called sticky
-    size = shape[["stiction_size_mean", "stiction_size_max"]].to_numpy(dtype=float)
+    size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
     size[~sticky] = np.nan
     return pd.DataFrame(
         {
             "status": status,
-            "verdict": np.where(status == "ok", np.where(sticky, "stiction", "no_stiction"),
-                                "no_verdict"),
-            "stiction_probability": np.where(status == "ok", proba, np.nan),
+            "verdict": np.where(ok, np.where(sticky, "stiction", "no_stiction"), "no_verdict"),
+            "stiction_probability": proba,
             "area_ratio": ar["area_ratio"].to_numpy(),
             "area_ratio_stiction": ar["prediction"].to_numpy(),
             "shape_confidence": shape["score"].to_numpy(dtype=float),
