@@ -258,7 +258,6 @@ def make_loops(
         lam_target = rng.uniform(lam_lo, lam_hi)
         sign = -1.0 if rng.random() < 0.25 else 1.0
         k_mag = float(np.exp(rng.uniform(np.log(0.5), np.log(2.0))))
-        # dimensionless plant (T = 1) first; time is rescaled below
         # dimensionless plant (T = 1) first; Kc is invariant when time is rescaled
         plant0, _ = _plant_for(order, lam_target, 1.0, sign * k_mag)
         integrating = plant0.integrating

@@ -42,7 +42,7 @@ def _scan_chunk(loops, loop_types, learned):
     ok = status == "ok"
     if ok.any():  # the learned model reads OP too: only loops that can be analysed
         proba[ok] = learned.predict_proba(loops[ok])[:, 1]
-    reason = np.where(status != "ok", status, shape["reason"].to_numpy(dtype=object))
+    reason = np.where(ok, shape["reason"].to_numpy(dtype=object), status)
     sticky = ok & (proba >= 0.5)
     # a size is only meaningful for a valve that is called sticky
     size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
