@@ -27,7 +27,7 @@ def intermittent(seed):
     return x, on, period
 
 
-@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("seed", range(20))
 def test_intermittent_oscillation_is_localised(seed):
     x, on, period = intermittent(seed)
     a = analyze_cycles(x)
@@ -39,8 +39,8 @@ def test_intermittent_oscillation_is_localised(seed):
     assert overlap >= 0.90
     mids = a.crossings[a.cycles][:, [0, 2]].mean(axis=1)
     counts = np.histogram(mids, bins=np.arange(5) * STRETCH)[0]
-    expected = np.array([0, 1, 0, 1]) * STRETCH / period
-    assert np.all(np.abs(counts - expected) <= 1 + 1e-9), (counts, expected)
+    expected = np.array([0, 1, 0, 1]) * np.floor(STRETCH / period)  # whole cycles that fit
+    assert np.all(np.abs(counts - expected) <= 1), (counts, expected)
 
 
 def test_noise_and_random_walks_rarely_called_oscillating():

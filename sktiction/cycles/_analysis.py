@@ -108,6 +108,32 @@ def _peaks(centred, smooth, crossings, signs, width):
     return out
 
 
+def _segments(centred, crossings, peaks, kept):
+    """Sample ranges covered by the kept full cycles, widened by one half-cycle at each
+    end when that half swings like the stretch's own (at least half its median peak and
+    at most 1.5 times its median duration): an oscillation seldom starts or stops on
+    a zero crossing, and the partial cycle at its edge belongs to it."""
+    runs = []
+    for k in kept:  # group the kept cycles into runs of consecutive crossings
+        if runs and k <= runs[-1][1]:
+            runs[-1][1] = k + 2
+        else:
+            runs.append([k, k + 2])
+    height = np.abs(centred[peaks])
+    durations = np.diff(crossings)
+    out = []
+    for first, last in runs:
+        inner = slice(first, last)
+        ref_h, ref_d = np.median(height[inner]), np.median(durations[inner])
+        start, end = crossings[first], crossings[last]
+        if first > 0 and height[first - 1] >= 0.5 * ref_h and durations[first - 1] <= 1.5 * ref_d:
+            start = crossings[first - 1]
+        if last < peaks.size and height[last] >= 0.5 * ref_h and durations[last] <= 1.5 * ref_d:
+            end = crossings[last + 1]
+        out.append((int(np.floor(start)), int(np.ceil(end)) + 1))
+    return out
+
+
 def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.2):
     """Detect and time-localise the oscillation of one signal, cycle by cycle.
 
@@ -182,13 +208,7 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     cyc = np.column_stack([kept, kept + 1, kept + 2])
     p = periods[kept]
     regularity = p.mean() / (3 * p.std()) if p.std() > 0 else np.inf
-    segments = []
-    for k in kept:
-        s, e = int(np.floor(crossings[k])), int(np.ceil(crossings[k + 2])) + 1
-        if segments and s <= segments[-1][1]:
-            segments[-1] = (segments[-1][0], e)
-        else:
-            segments.append((s, e))
+    segments = _segments(centred, crossings, peaks, kept)
     analysis.cycles = cyc
     analysis.segments = segments
     analysis.period = float(np.median(p))
