@@ -38,6 +38,14 @@ def check_random_state_seed(random_state):
     )
 
 
+def _check_numeric_columns(X, name):
+    """Name the non-numeric columns of a DataFrame (sklearn's message does not)."""
+    if hasattr(X, "dtypes") and hasattr(X, "columns"):
+        bad = [str(c) for c, dt in zip(X.columns, X.dtypes) if not np.issubdtype(dt, np.number)]
+        if bad:
+            raise TypeError(f"{name} has non-numeric columns: {', '.join(bad)}.")
+
+
 def check_loops(X, *, name="X"):
     """Return loops as a float array ``(n_loops, n_samples, 3)``.
 
@@ -70,10 +78,7 @@ def check_loops(X, *, name="X"):
     >>> check_loops(np.zeros((2, 5))).shape
     (2, 5, 3)
     """
-    if hasattr(X, "dtypes") and hasattr(X, "columns"):
-        bad = [str(c) for c, dt in zip(X.columns, X.dtypes) if not np.issubdtype(dt, np.number)]
-        if bad:
-            raise TypeError(f"{name} has non-numeric columns: {', '.join(bad)}.")
+    _check_numeric_columns(X, name)
     if np.ndim(X) != 3:
         # 2-D input goes through scikit-learn's own checks and messages
         arr = check_array(
@@ -116,8 +121,7 @@ def validate_loops(estimator, X, *, reset):
                 if hasattr(estimator, attr):
                     delattr(estimator, attr)
         return check_loops(X)
-    if hasattr(X, "dtypes") and hasattr(X, "columns"):
-        check_loops(X)  # names non-numeric columns
+    _check_numeric_columns(X, "X")
     X = validate_data(
         estimator, X, reset=reset, dtype=np.float64, ensure_all_finite="allow-nan"
     )

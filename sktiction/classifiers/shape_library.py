@@ -172,8 +172,8 @@ class ShapeLibraryClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator
         report.loc[idx, "n_cycles"] = n_cycles.to_numpy()
         report.loc[idx, "n_sticky_cycles"] = n_sticky.to_numpy()
         report.loc[idx, "loop_type"] = per_loop["loop_type"].first().to_numpy()
-        report.loc[pp.mean().index, "stiction_size_mean"] = pp.mean().to_numpy()
-        report.loc[pp.max().index, "stiction_size_max"] = pp.max().to_numpy()
+        sizes = pp.agg(["mean", "max"])
+        report.loc[sizes.index, ["stiction_size_mean", "stiction_size_max"]] = sizes.to_numpy()
         enough = report["n_cycles"] >= self.min_cycles
         conf = np.where(enough, report["n_sticky_cycles"] / np.maximum(report["n_cycles"], 1), 0)
         report["score"] = conf
