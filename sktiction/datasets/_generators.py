@@ -23,6 +23,7 @@ from ..simulation import (
     make_valve,
     simulate_loops,
 )
+from ..simulation._threads import single_blas_thread
 
 __all__ = ["make_loops"]
 
@@ -101,6 +102,7 @@ def _plant_for(order, lam_target, time_constant, gain):
     return plant, L / tau
 
 
+@single_blas_thread
 def make_loops(
     n_loops=100,
     n_samples=2000,

@@ -19,6 +19,7 @@ from numba import njit
 from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, check_positive, check_random_state_seed
+from ._threads import single_blas_thread
 from .controllers import PIController
 from .effects import EXOGENOUS_KEYS, Effect
 from .valves import N_PARAMS, STATE_SIZE, _Valve, valve_step
@@ -159,6 +160,7 @@ def _discretize_all(plants, ts):
     return A, B0, B1, C, nxs, delay
 
 
+@single_blas_thread
 def simulate_loops(
     plants,
     controllers,
