@@ -1,0 +1,407 @@
+"""Per-loop statistics of recording artefacts, noise, setpoint regime and PV-OP relation.
+
+One set of statistics, computed once per loop, read by two users: :func:`compare` (which
+effect of the simulated world differs from measured loops) and the applicability check
+(is a loop fit for a verdict). Each statistic is made *specific*: it answers to one effect and
+stays put under the others (see the notes of each column in :func:`loop_statistics`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .._validation import OP, PV, SP, check_loops
+
+__all__ = ["loop_statistics", "STATISTIC_COLUMNS"]
+
+# Robust noise sd from second differences: white noise of sd s gives var(d2) = 6 s**2.
+_MAD_TO_SD = 1.4826 / np.sqrt(6.0)
+# Lags of the difference ACF searched for the dip that interval averaging leaves.
+_AVERAGING_LAGS = (2, 12)
+# A spike departs from its 3-point median by more than this many noise sd ...
+_SPIKE_NOISE_SD = 8.0
+# ... and by more than this share of the channel's 5-95 % range.
+_SPIKE_SPAN = 0.2
+# SP changes on more than this share of samples: a remote (cascade) setpoint, not steps.
+_CASCADE_SHARE = 0.2
+
+STATISTIC_COLUMNS = (
+    "n_samples",
+    "ts",
+    "has_op",
+    "has_sp",
+    "nan_fraction",
+    "pv_span",
+    "op_span",
+    "error_span",
+    "pv_noise",
+    "op_noise",
+    "noise_level",
+    "op_noise_level",
+    "noise_colour",
+    "diff_acf_min",
+    "averaging_lag",
+    "pv_repeat_fraction",
+    "op_repeat_fraction",
+    "row_repeat_fraction",
+    "joint_repeat_excess",
+    "independent_freeze",
+    "pv_level_reuse",
+    "op_level_reuse",
+    "pv_band",
+    "op_band",
+    "spike_rate",
+    "pv_drift",
+    "op_drift",
+    "sp_change_fraction",
+    "sp_steps",
+    "sp_step_size",
+    "sp_offset",
+    "acf_peak",
+    "period",
+    "regularity",
+    "decorrelation_lag",
+    "pv_op_corr",
+    "pv_op_max_corr",
+    "pv_op_lag",
+    "op_saturation",
+)
+
+
+def _span(x):
+    """5-95 % range (robust to spikes and a few wild samples)."""
+    lo, hi = np.percentile(x, [5, 95])
+    return float(hi - lo)
+
+
+def _noise_sd(x):
+    """Robust noise sd from second differences, ignoring samples inside frozen runs.
+
+    Frozen runs (repeats) would drive the median absolute deviation to zero; the steps that
+    end them are kept out too, so holds and compression do not pass for noise.
+    """
+    d1 = np.diff(x)
+    moving = d1 != 0
+    d2 = d1[1:] - d1[:-1]
+    ok = moving[1:] & moving[:-1]
+    d2 = d2[ok]
+    if len(d2) < 5:
+        return 0.0
+    return float(_MAD_TO_SD * np.median(np.abs(d2 - np.median(d2))))
+
+
+def _acf(x, max_lag, demean=True):
+    """Autocorrelation at lags 0..max_lag (FFT, biased estimate), mean removed unless told."""
+    n = len(x)
+    if demean:
+        x = x - x.mean()
+    nfft = 1 << int(np.ceil(np.log2(2 * n)))
+    f = np.fft.rfft(x, nfft)
+    r = np.fft.irfft(f * np.conj(f), nfft)[: max_lag + 1]
+    return r / r[0] if r[0] > 0 else np.full(max_lag + 1, np.nan)
+
+
+def _xcorr(a, b, max_lag):
+    """Correlation of ``a[k]`` with ``b[k - lag]`` for lags -max_lag..max_lag."""
+    n = len(a)
+    a = a - a.mean()
+    b = b - b.mean()
+    den = np.sqrt((a @ a) * (b @ b))
+    if den == 0:
+        return np.full(2 * max_lag + 1, np.nan)
+    nfft = 1 << int(np.ceil(np.log2(2 * n)))
+    r = np.fft.irfft(np.fft.rfft(a, nfft) * np.conj(np.fft.rfft(b, nfft)), nfft)
+    return np.concatenate([r[nfft - max_lag :], r[: max_lag + 1]]) / den
+
+
+def _detrend(x):
+    t = np.arange(len(x), dtype=float)
+    t -= t.mean()
+    slope = (t @ (x - x.mean())) / (t @ t) if len(x) > 1 else 0.0
+    return x - x.mean() - slope * t, slope
+
+
+def _fill(x):
+    """Replace NaN inside a record by linear interpolation (statistics need no gaps)."""
+    bad = np.isnan(x)
+    if not bad.any():
+        return x
+    if bad.all():
+        return x
+    idx = np.arange(len(x))
+    out = x.copy()
+    out[bad] = np.interp(idx[bad], idx[~bad], x[~bad])
+    return out
+
+
+def _repeats_and_reuse(x):
+    d = np.diff(x)
+    same = d == 0
+    n_changes = int((~same).sum())
+    distinct = len(np.unique(x))
+    # Quantised signals revisit the same levels: distinct values fall far below the changes.
+    reuse = 1.0 - distinct / (n_changes + 1.0) if n_changes > 0 else np.nan
+    return same, float(same.mean()) if len(same) else np.nan, max(reuse, 0.0)
+
+
+def _band(x, same, span):
+    """Smallest jump that ends a frozen run, as a share of the range (compression band)."""
+    if span <= 0:
+        return np.nan
+    d = np.abs(np.diff(x))
+    ends = np.flatnonzero(same[:-1] & ~same[1:]) + 1
+    if len(ends) < 3:
+        return 0.0
+    return float(np.percentile(d[ends], 10) / span)
+
+
+def _spikes(x, noise, span):
+    if len(x) < 3:
+        return 0
+    med = np.median(np.stack([x[:-2], x[1:-1], x[2:]]), axis=0)
+    dev = np.abs(x[1:-1] - med)
+    threshold = max(_SPIKE_NOISE_SD * noise, _SPIKE_SPAN * span)
+    if threshold <= 0:
+        return 0
+    return int((dev > threshold).sum())
+
+
+def _robust_var(x):
+    return (1.4826 * np.median(np.abs(x - np.median(x)))) ** 2
+
+
+def _noise_shape(x, same):
+    """Noise colour and the averaging dip, from differences where the noise rules.
+
+    AR(1) noise with coefficient phi has ``var(d2) / var(d1) = 3 - phi`` (white: 3). The ACF of
+    the second difference is -2/3, 1/6 at lags 1, 2 and 0 beyond for white noise, near 0 beyond
+    lag 1 for AR(1) noise, and dips to about -0.5 at lag ``m`` after a trailing mean of ``m``
+    samples (interval averaging). Second differences touching a frozen sample are left out.
+    """
+    lo, hi = _AVERAGING_LAGS
+    d1 = np.diff(x)
+    d2 = d1[1:] - d1[:-1]
+    moving = ~(same[1:] | same[:-1])
+    if moving.sum() < 4 * hi:
+        return np.nan, np.nan, np.nan
+    v1, v2 = _robust_var(d1[~same]), _robust_var(d2[moving])
+    colour = float(np.clip(3.0 - v2 / v1, -1.0, 1.0)) if v1 > 0 else np.nan
+    z = np.where(moving, d2 - np.median(d2[moving]), 0.0)
+    r = _acf(z, hi, demean=False)
+    if not np.isfinite(r[0]):
+        return colour, np.nan, np.nan
+    k = lo + int(np.argmin(r[lo : hi + 1]))
+    return colour, float(r[k]), float(k)
+
+
+def _oscillation(err):
+    """ACF peak, period and Thornhill regularity of the detrended control error."""
+    n = len(err)
+    r = _acf(err, n // 2)
+    peak = period = decor = np.nan
+    if np.isfinite(r[0]):
+        below = np.flatnonzero(r < 0.5)
+        decor = float(below[0]) if len(below) else float(n // 2)
+        neg = np.flatnonzero(r < 0)
+        if len(neg):
+            pos = neg[0] + np.flatnonzero(r[neg[0] :] > 0)
+            if len(pos):
+                after = pos[0] + np.flatnonzero(r[pos[0] :] < 0)
+                end = after[0] if len(after) else len(r)
+                lag = pos[0] + int(np.argmax(r[pos[0] : end]))
+                period, peak = float(lag), float(r[lag])
+            else:
+                peak = 0.0
+        else:
+            peak = 0.0
+    zc = np.flatnonzero(np.diff(np.signbit(err)))
+    reg = np.nan
+    if len(zc) >= 5:
+        full = zc[2:] - zc[:-2]
+        sd = full.std()
+        reg = float(full.mean() / (3 * sd)) if sd > 0 else 10.0
+    return peak, period, reg, decor
+
+
+def _one_loop(x, ts):
+    """Statistics of one loop ``x`` (n_samples, 3) with the padding already cut."""
+    row = dict.fromkeys(STATISTIC_COLUMNS, np.nan)
+    n = x.shape[0]
+    if n == 0:
+        row.update(n_samples=0, ts=ts, has_op=False, has_sp=False)
+        return row
+    pv, op, sp = x[:, PV], x[:, OP], x[:, SP]
+    has_op = bool(np.isfinite(op).any())
+    has_sp = bool(np.isfinite(sp).any())
+    row.update(n_samples=n, ts=ts, has_op=has_op, has_sp=has_sp)
+    chans = pv if not has_op else np.concatenate([pv, op])
+    row["nan_fraction"] = float(np.isnan(chans).mean())
+    pv = _fill(pv)
+    op = _fill(op) if has_op else op
+    sp = _fill(sp) if has_sp else sp
+    if n < 8 or np.isnan(pv).any():
+        return row
+    err = pv - sp if has_sp else pv
+    pv_span, err_span = _span(pv), _span(err)
+    pv_noise = _noise_sd(pv)
+    row.update(pv_span=pv_span, error_span=err_span, pv_noise=pv_noise)
+    row["noise_level"] = pv_noise / err_span if err_span > 0 else np.nan
+
+    same_pv, pv_rep, pv_reuse = _repeats_and_reuse(pv)
+    colour, dip, lag = _noise_shape(pv, same_pv)
+    row.update(noise_colour=colour, diff_acf_min=dip, averaging_lag=lag)
+    row.update(pv_repeat_fraction=pv_rep, pv_level_reuse=pv_reuse)
+    row["pv_band"] = _band(pv, same_pv, pv_span)
+    spikes = _spikes(pv, pv_noise, pv_span)
+    det, slope = _detrend(err)
+    row["pv_drift"] = abs(slope) * n / err_span if err_span > 0 else np.nan
+
+    peak, period, reg, decor = _oscillation(det)
+    row.update(acf_peak=peak, period=period, regularity=reg, decorrelation_lag=decor)
+
+    if has_op and not np.isnan(op).any():
+        op_span = _span(op)
+        op_noise = _noise_sd(op)
+        same_op, op_rep, op_reuse = _repeats_and_reuse(op)
+        row.update(op_span=op_span, op_noise=op_noise, op_repeat_fraction=op_rep)
+        row["op_level_reuse"] = op_reuse
+        row["op_noise_level"] = op_noise / op_span if op_span > 0 else np.nan
+        row["op_band"] = _band(op, same_op, op_span)
+        both = float((same_pv & same_op).mean())
+        row["row_repeat_fraction"] = both
+        # Historian holds freeze whole rows: joint repeats beyond what independent
+        # per-tag freezes (compression, quantisation) would give by chance.
+        row["joint_repeat_excess"] = both - pv_rep * op_rep
+        row["independent_freeze"] = 0.5 * (
+            (pv_rep - both) * (1.0 - pv_reuse) + (op_rep - both) * (1.0 - op_reuse)
+        )
+        spikes += _spikes(op, op_noise, op_span)
+        op_det, op_slope = _detrend(op)
+        row["op_drift"] = abs(op_slope) * n / op_span if op_span > 0 else np.nan
+        max_lag = int(min(n // 4, 3 * period if np.isfinite(period) else n // 4))
+        max_lag = max(max_lag, 1)
+        xc = _xcorr(det, op_det, max_lag)
+        if np.isfinite(xc).all():
+            row["pv_op_corr"] = float(abs(xc[max_lag]))
+            k = int(np.argmax(np.abs(xc)))
+            row["pv_op_max_corr"] = float(abs(xc[k]))
+            row["pv_op_lag"] = float(k - max_lag)
+        in_pct = op.min() >= -1 and op.max() <= 101 and op.mean() > 2
+        row["op_saturation"] = float(np.mean((op <= 0.5) | (op >= 99.5))) if in_pct else np.nan
+    row["spike_rate"] = spikes / n
+
+    if has_sp and not np.isnan(sp).any():
+        dsp = np.abs(np.diff(sp))
+        moved = dsp > 1e-9 * max(1.0, float(np.abs(sp).max()))
+        share = float(moved.mean())
+        row["sp_change_fraction"] = share
+        row["sp_steps"] = float(moved.sum()) if share <= _CASCADE_SHARE else np.nan
+        row["sp_step_size"] = (
+            float(np.median(dsp[moved]) / pv_span) if moved.any() and pv_span > 0 else 0.0
+        )
+        row["sp_offset"] = float(np.median(pv - sp) / pv_span) if pv_span > 0 else np.nan
+    return row
+
+
+def loop_statistics(X, ts=None):
+    """Per-loop statistics of noise, recording artefacts, setpoint regime and PV-OP relation.
+
+    One row per loop, computed once and shared by :func:`sktiction.realism.compare` and the
+    applicability check. Each column is made specific to one effect of
+    :data:`sktiction.realism.EFFECTS` (notes below say what else could move it).
+
+    Parameters
+    ----------
+    X : array-like of shape (n_loops, n_samples, n_channels) or sklearn.utils.Bunch
+        Loops with channels PV, OP, SP, NaN-padded at the end (a ``read_loops`` Bunch is read
+        from its ``X``, and its ``meta.ts`` gives ``ts`` when ``ts`` is None). NaN gaps inside
+        a record are bridged linearly and counted in ``nan_fraction``.
+    ts : float, array-like of shape (n_loops,) or None, default=None
+        Sample time of each loop (only reported, in column ``ts``; statistics are in samples).
+
+    Returns
+    -------
+    stats : pandas.DataFrame of shape (n_loops, len(STATISTIC_COLUMNS))
+        Columns (stable names; spans are 5-95 % ranges; "error" is PV - SP, or PV without SP):
+
+        - ``n_samples``: samples before the NaN padding (record length); ``ts``;
+          ``has_op``, ``has_sp``: the channel holds numbers; ``nan_fraction``: NaN share of PV
+          and OP inside the record.
+        - ``pv_span``, ``op_span``, ``error_span``; ``pv_noise``, ``op_noise``: robust noise
+          sd from second differences, frozen samples left out.
+        - ``noise_level``: ``pv_noise / error_span``; ``op_noise_level``: ``op_noise / op_span``.
+        - ``noise_colour``: ``1 + 2 r1`` with ``r1`` the lag-1 autocorrelation of the PV
+          difference: the AR(1) coefficient of the noise when noise dominates the difference
+          (0 white, towards 1 coloured). Interval averaging also raises it.
+        - ``diff_acf_min``, ``averaging_lag``: lowest autocorrelation of the PV difference at
+          lags 2-12 and its lag. A trailing mean of ``m`` samples leaves a dip of about -0.5 at
+          lag ``m``; white and AR(1) noise stay near 0 there (interval averaging).
+        - ``pv_repeat_fraction``, ``op_repeat_fraction``: share of samples equal to the one
+          before; ``row_repeat_fraction``: PV and OP both repeated.
+        - ``joint_repeat_excess``: ``row_repeat_fraction - pv_repeat * op_repeat``, joint
+          freezing beyond chance: whole rows held (hold-last-value); per-tag compression or
+          quantisation freeze tags independently and leave it near 0.
+        - ``independent_freeze``: mean over PV and OP of ``(repeat - row_repeat) * (1 -
+          level_reuse)``: tags frozen on their own at values off any grid (deadband or
+          swinging-door compression); zero for held rows and for quantised values.
+        - ``pv_level_reuse``, ``op_level_reuse``: ``1 - distinct values / (changes + 1)``;
+          quantised signals revisit their levels (near 1), continuous ones do not (0).
+        - ``pv_band``, ``op_band``: 10th percentile of the jumps that end frozen runs, share of
+          the span (the compression band; 0 with fewer than 3 runs).
+        - ``spike_rate``: samples of PV or OP departing from their 3-point median by more than
+          8 noise sd and 20 % of the span, per sample. Steps (holds, setpoint moves) do not count.
+        - ``pv_drift``: linear trend of the error over the record, share of its span; ``op_drift``:
+          OP trend over the record, share of the OP span (loads).
+        - ``sp_change_fraction``: share of samples whose SP changed (cascade setpoints: most);
+          ``sp_steps``: number of SP changes when they are at most 20 % of samples (NaN
+          otherwise); ``sp_step_size``: median SP change, share of PV span; ``sp_offset``:
+          median PV - SP, share of PV span.
+        - ``acf_peak``, ``period``: height and lag of the ACF maximum in the first positive lobe
+          after the first zero crossing of the detrended error (0 if none: no oscillation);
+          ``regularity``: Thornhill's r, mean / (3 sd) of intervals between alternate zero
+          crossings; ``decorrelation_lag``: first lag with ACF < 0.5 (samples: sampling
+          against the loop's dynamics).
+        - ``pv_op_corr``: absolute correlation of detrended error and OP at lag 0 (PV follows
+          OP in phase: near 1); ``pv_op_max_corr``, ``pv_op_lag``: the largest absolute
+          correlation within three periods and its lag (PV after OP: positive).
+        - ``op_saturation``: share of OP at 0-0.5 % or 99.5-100 % (NaN unless OP is in %).
+
+        Columns that need an absent channel are NaN; a loop of fewer than 8 samples or an
+        all-NaN PV has only its length and flags.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.realism import loop_statistics
+    >>> rng = np.random.default_rng(0)
+    >>> pv = np.sin(np.arange(600) / 10) + 0.05 * rng.standard_normal(600)
+    >>> X = np.stack([pv, 50 + 5 * pv, np.zeros(600)], axis=-1)[None]
+    >>> stats = loop_statistics(X)
+    >>> int(stats.loc[0, "n_samples"]), round(float(stats.loc[0, "period"]))
+    (600, 63)
+    >>> held = X.copy()
+    >>> held[0, 100:300] = held[0, 100]   # whole rows frozen
+    >>> s = loop_statistics(held)
+    >>> bool(s.loc[0, "joint_repeat_excess"] > 0.2), float(s.loc[0, "independent_freeze"])
+    (True, 0.0)
+    """
+    meta_ts = None
+    if hasattr(X, "X") and hasattr(X, "meta"):
+        meta_ts = X.meta["ts"].to_numpy(dtype=float) if "ts" in X.meta else None
+        X = X.X
+    loops = check_loops(X)
+    n_loops = loops.shape[0]
+    if ts is None:
+        ts = meta_ts if meta_ts is not None else np.full(n_loops, np.nan)
+    ts = np.broadcast_to(np.asarray(ts, dtype=float), (n_loops,))
+    finite = np.isfinite(loops[:, :, PV])
+    rows = []
+    for i in range(n_loops):
+        idx = np.flatnonzero(finite[i])
+        n = idx[-1] + 1 if len(idx) else 0
+        rows.append(_one_loop(loops[i, :n], float(ts[i])))
+    out = pd.DataFrame(rows, columns=list(STATISTIC_COLUMNS))
+    out["has_op"] = out["has_op"].astype(bool)
+    out["has_sp"] = out["has_sp"].astype(bool)
+    return out
