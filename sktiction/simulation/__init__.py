@@ -55,3 +55,23 @@ __all__ = [
     "simulate_loop",
     "simulate_loops",
 ]
+
+from .disturbances import (  # noqa: E402
+    BandLimitedNoise,
+    CascadeSetpoint,
+    ColouredLoad,
+    Drift,
+    NarrowbandDisturbance,
+    SquareDisturbance,
+)
+from .valves import HeValve  # noqa: E402
+
+__all__ += [
+    "HeValve",
+    "BandLimitedNoise",
+    "ColouredLoad",
+    "NarrowbandDisturbance",
+    "SquareDisturbance",
+    "Drift",
+    "CascadeSetpoint",
+]

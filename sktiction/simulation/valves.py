@@ -1,4 +1,4 @@
-"""Control valve models: healthy, deadband and three stiction models.
+"""Control valve models: healthy, deadband and four stiction models.
 
 Each valve is a small parameter holder; the stepping itself is one compiled
 function, :func:`valve_step`, selected by an integer ``kind`` so that the
@@ -22,11 +22,12 @@ __all__ = [
     "ChoudhuryValve",
     "KanoValve",
     "DeadbandValve",
+    "HeValve",
     "make_valve",
     "VALVE_MODELS",
 ]
 
-LINEAR, RELAY, CHOUDHURY, KANO, DEADBAND = 0, 1, 2, 3, 4
+LINEAR, RELAY, CHOUDHURY, KANO, DEADBAND, HE = 0, 1, 2, 3, 4, 5
 N_PARAMS = 2
 STATE_SIZE = 6
 _Y, _UPREV, _SPREV, _STUCK, _DIR, _USTICK = range(STATE_SIZE)
@@ -240,12 +241,61 @@ class DeadbandValve(_Valve):
         return {"deadband": self.deadband}
 
 
+class HeValve(_Valve):
+    """Two-layer stiction model of He, Wang, Pottmann & Qin (2007).
+
+    He, Q.P., Wang, J., Pottmann, M., Qin, S.J. (2007), A curve fitting method for
+    detecting valve stiction in oscillating control loops, *Ind. Eng. Chem. Res.*
+    46:4549-4560. A residual force ``u_r = u - y`` builds up while the valve is
+    stuck; when it exceeds the static friction ``fs`` the valve moves to
+    ``u - sign(u_r) fd`` (dynamic friction ``fd``) and the residual drops to
+    ``fd``. A valve that keeps moving slowly therefore sticks again after each
+    slip (stick-slip while moving), unlike :class:`ChoudhuryValve`, which slides.
+    In Choudhury's terms ``S = fs + fd`` (reversal) and ``J = fs - fd`` (slip).
+
+    Parameters
+    ----------
+    fs : float
+        Static friction band, ``0 < fs <= 100`` % of span.
+    fd : float
+        Dynamic friction band, ``0 <= fd <= fs``.
+
+    Examples
+    --------
+    >>> from sktiction.simulation import HeValve
+    >>> HeValve(fs=2.0, fd=0.5).simulate([50.0, 51.0, 52.5, 53.0, 50.0, 48.0]).tolist()
+    [50.0, 50.0, 52.0, 52.0, 52.0, 48.5]
+    """
+
+    kind = HE
+    name = "he"
+
+    def __init__(self, fs, fd):
+        self.fs = check_positive(fs, "fs", upper=100.0)
+        self.fd = check_positive(fd, "fd", strict=False)
+        if self.fd > self.fs:
+            raise ValueError(f"fd must satisfy 0 <= fd <= fs (fs={fs!r}); got fd={fd!r}.")
+
+    @classmethod
+    def from_sj(cls, S, J):
+        """The same valve from Choudhury's band ``S`` and slip jump ``J <= S``."""
+        S, J = _check_sj(S, J)
+        return cls(fs=0.5 * (S + J), fd=0.5 * (S - J))
+
+    def params(self):
+        return np.array([self.fs, self.fd])
+
+    def _param_dict(self):
+        return {"fs": self.fs, "fd": self.fd}
+
+
 VALVE_MODELS = {
     "linear": LinearValve,
     "relay": RelayValve,
     "choudhury": ChoudhuryValve,
     "kano": KanoValve,
     "deadband": DeadbandValve,
+    "he": HeValve,
 }
 
 
@@ -329,6 +379,11 @@ def valve_step(kind, par, st, u):
             st[_STUCK] = 0.0
         st[_DIR] = d
         st[_SPREV] = du
+    elif kind == HE:
+        # the residual force u - y moves the valve once it beats static friction
+        r = u - y
+        if abs(r) > par[0]:
+            y = u - _sign(r) * par[1]
     y = min(max(y, 0.0), 100.0)
     st[_Y] = y
     st[_UPREV] = u

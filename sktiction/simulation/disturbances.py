@@ -1,0 +1,306 @@
+"""Exogenous effects of plant operation: coloured noise, process noise, drifts, setpoints.
+
+These are the disturbances measured loops carry and clean simulations lack
+(Thornhill & Horch 2007 list them among the causes of plant-wide oscillations;
+Jelali & Huang 2010, ch. 2, among the confounders of stiction detection):
+
+* :class:`BandLimitedNoise`: low-pass measurement noise (sensor and transmitter
+  filtering), by standard deviation or SNR like
+  :class:`~sktiction.simulation.WhiteNoise`.
+* :class:`ColouredLoad`: process noise, white noise through a low-pass filter,
+  added at the plant output or input. Through a lightly damped loop it gives
+  the irregular, amplitude-modulated oscillations of noise-driven loops.
+* :class:`NarrowbandDisturbance`: a lightly damped resonator driven by white
+  noise; an upstream oscillation whose amplitude and phase wander.
+* :class:`SquareDisturbance`: a filtered square wave (an upstream on-off or
+  limit-cycling unit): non-sinusoidal, but not caused by this valve.
+* :class:`Drift`: slow piecewise-linear trend (feed changes, fouling); the
+  loop rejects it and its OP ramps.
+* :class:`CascadeSetpoint`: the setpoint of a cascade secondary loop, which
+  the primary controller moves on nearly every sample.
+
+All of them are exogenous effects (:class:`~sktiction.simulation.Effect`):
+their arrays are drawn before the compiled loop runs.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.signal import butter, lfilter
+
+from .._validation import check_positive
+from .effects import Effect, WhiteNoise
+
+__all__ = [
+    "BandLimitedNoise",
+    "ColouredLoad",
+    "NarrowbandDisturbance",
+    "SquareDisturbance",
+    "Drift",
+    "CascadeSetpoint",
+]
+
+
+def _check_where(where):
+    if where not in ("output", "input"):
+        raise ValueError(f"where must be 'output' or 'input'; got {where!r}.")
+    return where
+
+
+def _lowpass_unit(n_samples, cutoff, order, rng):
+    """Unit-variance Butterworth low-pass noise; ``cutoff`` in cycles per sample (< 0.5).
+
+    A burn-in of a few filter time constants is drawn and dropped so that the
+    first sample is already stationary.
+    """
+    b, a = butter(order, 2.0 * cutoff)
+    burn = int(min(4.0 / cutoff, 20_000))
+    e = rng.standard_normal(n_samples + burn)
+    out = lfilter(b, a, e)[burn:]
+    # exact stationary variance of the filter: sum of its squared impulse response
+    h = lfilter(b, a, np.r_[1.0, np.zeros(burn + 256)])
+    return out / np.sqrt(np.sum(h * h))
+
+
+class BandLimitedNoise(WhiteNoise):
+    """Measurement noise through a Butterworth low-pass filter.
+
+    Parameters
+    ----------
+    cutoff : float
+        Cut-off frequency in cycles per sample, ``0 < cutoff < 0.5``.
+    std, snr_db, where
+        As in :class:`~sktiction.simulation.WhiteNoise` (of the filtered noise).
+    order : int, default=2
+        Filter order (1-4).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import BandLimitedNoise
+    >>> noise = BandLimitedNoise(0.05, std=1.0).signals(20000, 1.0, np.random.default_rng(0))
+    >>> bool(0.9 < noise["noise"].std() < 1.1)
+    True
+    """
+
+    def __init__(self, cutoff, std=None, snr_db=None, where="loop", order=2):
+        if not (isinstance(cutoff, (int, float)) and 0 < cutoff < 0.5):
+            raise ValueError(f"cutoff must be a number with 0 < cutoff < 0.5; got {cutoff!r}.")
+        if order not in (1, 2, 3, 4):
+            raise ValueError(f"order must be 1, 2, 3 or 4; got {order!r}.")
+        self.cutoff = float(cutoff)
+        self.order = int(order)
+        super().__init__(std=std, snr_db=snr_db, where=where)
+
+    def _unit(self, n_samples, rng):
+        return _lowpass_unit(n_samples, self.cutoff, self.order, rng)
+
+
+class ColouredLoad(Effect):
+    """Process noise: white noise through a low-pass filter, at the plant output or input.
+
+    Parameters
+    ----------
+    std : float
+        Standard deviation of the load (> 0): PV units at the output, % of span
+        at the input.
+    cutoff : float
+        Cut-off frequency in cycles per sample, ``0 < cutoff < 0.5``.
+    order : int, default=1
+        Filter order (1-4).
+    where : {"output", "input"}, default="output"
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import ColouredLoad
+    >>> load = ColouredLoad(2.0, 0.01).signals(50000, 1.0, np.random.default_rng(0))
+    >>> bool(1.7 < load["output_load"].std() < 2.3)
+    True
+    """
+
+    def __init__(self, std, cutoff, order=1, where="output"):
+        self.std = check_positive(std, "std")
+        if not (isinstance(cutoff, (int, float)) and 0 < cutoff < 0.5):
+            raise ValueError(f"cutoff must be a number with 0 < cutoff < 0.5; got {cutoff!r}.")
+        if order not in (1, 2, 3, 4):
+            raise ValueError(f"order must be 1, 2, 3 or 4; got {order!r}.")
+        self.cutoff = float(cutoff)
+        self.order = int(order)
+        self.where = _check_where(where)
+
+    def signals(self, n_samples, ts, rng):
+        unit = _lowpass_unit(n_samples, self.cutoff, self.order, rng)
+        return {f"{self.where}_load": self.std * unit}
+
+
+class NarrowbandDisturbance(Effect):
+    """An oscillation of wandering amplitude and phase: a resonator driven by white noise.
+
+    The second-order resonator ``1 / (s^2 + 2 zeta w s + w^2)``, discretised by
+    its poles ``exp(s ts)``, has a spectral peak at ``period`` whose width is set
+    by ``damping``; 0.01 is almost a sine, 0.3 a broad band.
+
+    Parameters
+    ----------
+    amplitude : float
+        Standard deviation times sqrt(2) (the amplitude of a sine of the same
+        power), > 0; PV units at the output, % of span at the input.
+    period : float
+        Period of the peak, in the time unit of ``ts`` (> 2 ts).
+    damping : float, default=0.05
+        Damping ratio ``zeta``, ``0 < zeta < 1``.
+    where : {"output", "input"}, default="output"
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import NarrowbandDisturbance
+    >>> d = NarrowbandDisturbance(1.0, 50.0).signals(50000, 1.0, np.random.default_rng(0))
+    >>> bool(0.6 < d["output_load"].std() < 0.85)
+    True
+    """
+
+    def __init__(self, amplitude, period, damping=0.05, where="output"):
+        self.amplitude = check_positive(amplitude, "amplitude")
+        self.period = check_positive(period, "period")
+        if not (isinstance(damping, (int, float)) and 0 < damping < 1):
+            raise ValueError(f"damping must be a number with 0 < damping < 1; got {damping!r}.")
+        self.damping = float(damping)
+        self.where = _check_where(where)
+
+    def signals(self, n_samples, ts, rng):
+        if self.period <= 2 * ts:
+            raise ValueError(f"period must exceed 2 ts = {2 * ts}; got {self.period!r}.")
+        w = 2 * np.pi / self.period * ts  # rad per sample
+        r = np.exp(-self.damping * w)
+        a = [1.0, -2.0 * r * np.cos(w * np.sqrt(1 - self.damping**2)), r * r]
+        burn = int(min(6.0 / (self.damping * w), 50_000))
+        e = rng.standard_normal(n_samples + burn)
+        out = lfilter([1.0], a, e)[burn:]
+        h = lfilter([1.0], a, np.r_[1.0, np.zeros(burn + 256)])
+        out *= self.amplitude / np.sqrt(2.0 * np.sum(h * h))
+        return {f"{self.where}_load": out}
+
+
+class SquareDisturbance(Effect):
+    """A square wave through a first-order lag: an upstream unit switching or limit-cycling.
+
+    Parameters
+    ----------
+    amplitude : float
+        Half the peak-to-peak of the square wave (> 0).
+    period : float
+        Period (> 0), in the time unit of ``ts``.
+    lag : float, default=0.0
+        Time constant of the first-order lag (>= 0), in the time unit of ``ts``.
+    phase : float, default=0.0
+        Phase in radians.
+    jitter : float, default=0.0
+        Relative standard deviation of each half-period's length (0-0.5), so
+        that the switching is not perfectly regular.
+    where : {"output", "input"}, default="output"
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import SquareDisturbance
+    >>> SquareDisturbance(1.0, 4.0).signals(6, 1.0, np.random.default_rng(0))["output_load"]
+    array([ 1.,  1., -1., -1.,  1.,  1.])
+    """
+
+    def __init__(self, amplitude, period, lag=0.0, phase=0.0, jitter=0.0, where="output"):
+        self.amplitude = check_positive(amplitude, "amplitude")
+        self.period = check_positive(period, "period")
+        self.lag = check_positive(lag, "lag", strict=False)
+        self.phase = float(phase)
+        self.jitter = check_positive(jitter, "jitter", strict=False, upper=0.5)
+        self.where = _check_where(where)
+
+    def signals(self, n_samples, ts, rng):
+        half = 0.5 * self.period / ts  # samples per half period
+        n_half = int(n_samples / half) + 3
+        lengths = np.full(n_half, half)
+        if self.jitter > 0:
+            lengths = lengths * np.clip(1 + self.jitter * rng.standard_normal(n_half), 0.2, None)
+        start = -(self.phase % (2 * np.pi)) / np.pi * half
+        edges = start + np.concatenate([[0.0], np.cumsum(lengths)])
+        idx = np.searchsorted(edges, np.arange(n_samples), side="right") - 1
+        wave = self.amplitude * np.where(idx % 2 == 0, 1.0, -1.0)
+        if self.lag > 0:
+            a = np.exp(-ts / self.lag)
+            wave = lfilter([1 - a], [1.0, -a], wave, zi=[a * wave[0]])[0]
+        return {f"{self.where}_load": wave}
+
+
+class Drift(Effect):
+    """Slow piecewise-linear drift through random knots, starting at 0.
+
+    Parameters
+    ----------
+    amplitude : float
+        Standard deviation of the change from one knot to the next (> 0).
+    n_segments : int, default=2
+        Number of linear segments over the record (>= 1), knots evenly spaced.
+    where : {"output", "input"}, default="output"
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import Drift
+    >>> d = Drift(1.0, n_segments=1).signals(5, 1.0, np.random.default_rng(0))["output_load"]
+    >>> bool(np.allclose(np.diff(d, 2), 0)), float(d[0])
+    (True, 0.0)
+    """
+
+    def __init__(self, amplitude, n_segments=2, where="output"):
+        self.amplitude = check_positive(amplitude, "amplitude")
+        if not (isinstance(n_segments, (int, np.integer)) and n_segments >= 1):
+            raise ValueError(f"n_segments must be an integer >= 1; got {n_segments!r}.")
+        self.n_segments = int(n_segments)
+        self.where = _check_where(where)
+
+    def signals(self, n_samples, ts, rng):
+        knots = np.concatenate([[0.0], np.cumsum(rng.standard_normal(self.n_segments))])
+        x = np.linspace(0, self.n_segments, n_samples)
+        return {f"{self.where}_load": self.amplitude * np.interp(x, np.arange(len(knots)), knots)}
+
+
+class CascadeSetpoint(Effect):
+    """Setpoint of a cascade secondary loop: moves on nearly every sample.
+
+    The primary controller's output is modelled as a low-pass random process
+    (AR(1) with coefficient ``phi``, the primary loop's slow variation) plus a
+    white part (the primary's own measurement noise through its gain).
+
+    Parameters
+    ----------
+    std : float
+        Standard deviation of the slow part (> 0), PV units.
+    phi : float, default=0.98
+        AR coefficient of the slow part, ``0 <= phi < 1``.
+    jitter : float, default=0.2
+        Standard deviation of the white part relative to ``std`` (>= 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import CascadeSetpoint
+    >>> sp = CascadeSetpoint(1.0).signals(1000, 1.0, np.random.default_rng(0))["setpoint"]
+    >>> bool(np.mean(np.diff(sp) != 0) > 0.99)
+    True
+    """
+
+    def __init__(self, std, phi=0.98, jitter=0.2):
+        self.std = check_positive(std, "std")
+        if not (isinstance(phi, (int, float)) and 0 <= phi < 1):
+            raise ValueError(f"phi must be a number with 0 <= phi < 1; got {phi!r}.")
+        self.phi = float(phi)
+        self.jitter = check_positive(jitter, "jitter", strict=False)
+
+    def signals(self, n_samples, ts, rng):
+        e = rng.standard_normal(n_samples) * np.sqrt(1 - self.phi**2)
+        slow = lfilter([1.0], [1.0, -self.phi], e, zi=[self.phi * rng.standard_normal()])[0]
+        sp = self.std * (slow + self.jitter * rng.standard_normal(n_samples))
+        # the loop starts at rest on its setpoint: shift so that sp[0] = 0
+        return {"setpoint": sp - sp[0]}
