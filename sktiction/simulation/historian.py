@@ -1,0 +1,359 @@
+"""Recording effects of plant historians and sensors, applied to the recorded signals.
+
+Each is a *recording* :class:`~sktiction.simulation.Effect`: it transforms the recorded
+``pv``, ``op``, ``sp`` arrays after the loop ran, so the controller never sees it. Sizes are
+given as a share of each channel's 5-95 % range in the record (its *span*), so one setting
+means the same on loops of any scale. Each effect has a statistic of
+:func:`sktiction.realism.loop_statistics` that detects it (see :data:`sktiction.realism.EFFECTS`):
+
+=====================  ==================================  =================================
+effect                 what the historian or sensor does   statistic
+=====================  ==================================  =================================
+HoldLastValue          whole rows frozen, then all jump     ``joint_repeat_excess``
+DeadbandCompression    each tag stored when it moved more   ``independent_freeze``
+                       than a band (exception deviation)
+IntervalAveraging      trailing mean over an interval       ``diff_acf_min``
+SpanQuantization       values on a grid                     ``pv_level_reuse``
+Spikes                 isolated wild samples                ``spike_rate``
+SensorDrift            slow ramp added to the measurement   ``pv_drift``
+ShortRecord            record cut short (NaN padding)       ``n_samples``
+=====================  ==================================  =================================
+"""
+
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+from numba import njit
+
+from .._validation import CHANNELS, check_positive
+from .effects import Effect
+
+__all__ = [
+    "HoldLastValue",
+    "DeadbandCompression",
+    "IntervalAveraging",
+    "SpanQuantization",
+    "Spikes",
+    "SensorDrift",
+    "ShortRecord",
+]
+
+
+def _check_channels(channels):
+    channels = tuple(channels)
+    bad = [c for c in channels if c not in CHANNELS]
+    if bad or not channels:
+        raise ValueError(f"channels must be a non-empty subset of {CHANNELS}; got {channels!r}.")
+    return channels
+
+
+def _check_share(value, name, upper=1.0):
+    return check_positive(value, name, upper=upper)
+
+
+def _span(x):
+    """5-95 % range over the finite samples (0 when there are none)."""
+    x = x[np.isfinite(x)]
+    if len(x) == 0:
+        return 0.0
+    lo, hi = np.percentile(x, [5, 95])
+    return float(hi - lo)
+
+
+def _finite_length(sig):
+    """Samples before the NaN padding (from PV)."""
+    idx = np.flatnonzero(np.isfinite(np.asarray(sig["pv"], dtype=float)))
+    return idx[-1] + 1 if len(idx) else 0
+
+
+class _Recording(Effect):
+    kind = "recording"
+
+    def _present(self, signals):
+        return [c for c in self.channels if c in signals]
+
+
+class HoldLastValue(_Recording):
+    """Historian hold-last-value: whole rows frozen in runs, then all tags jump together.
+
+    A stale historian (or a collection gap filled with the last value) repeats the previous
+    row: PV, OP and SP freeze on the same samples, unlike per-tag compression.
+
+    Parameters
+    ----------
+    fraction : float
+        Expected share of rows frozen, in (0, 1).
+    mean_run : float, default=5.0
+        Mean length of a frozen run in samples (>= 1); run lengths are geometric.
+    channels : tuple of str, default=("pv", "op", "sp")
+        Channels frozen together.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import HoldLastValue
+    >>> sig = {"pv": np.arange(2000.0), "op": np.arange(2000.0), "sp": np.zeros(2000)}
+    >>> out = HoldLastValue(0.3).record(sig, 1.0, np.random.default_rng(0))
+    >>> frozen = np.diff(out["pv"]) == 0
+    >>> bool(0.2 < frozen.mean() < 0.4), bool(np.all(frozen == (np.diff(out["op"]) == 0)))
+    (True, True)
+    """
+
+    def __init__(self, fraction, mean_run=5.0, channels=CHANNELS):
+        self.fraction = _check_share(fraction, "fraction")
+        if not (isinstance(mean_run, numbers.Real) and mean_run >= 1):
+            raise ValueError(f"mean_run must be a number >= 1; got {mean_run!r}.")
+        self.mean_run = float(mean_run)
+        self.channels = _check_channels(channels)
+
+    def mask(self, n_samples, rng):
+        """Boolean array, True on rows that repeat the row before."""
+        f = min(self.fraction, 0.99)
+        mean_gap = self.mean_run * (1.0 - f) / f
+        held = np.zeros(n_samples, dtype=bool)
+        k = int(rng.geometric(1.0 / (1.0 + mean_gap)))
+        while k < n_samples:
+            run = int(rng.geometric(1.0 / self.mean_run))
+            held[k : k + run] = True
+            k += run + int(rng.geometric(1.0 / (1.0 + mean_gap)))
+        return held
+
+    def record(self, signals, ts, rng):
+        n = len(signals["pv"])
+        held = self.mask(n, rng)
+        # index of the last row that was stored, for every row
+        idx = np.where(held, 0, np.arange(n))
+        np.maximum.accumulate(idx, out=idx)
+        out = dict(signals)
+        for c in self._present(signals):
+            out[c] = np.asarray(signals[c], dtype=float)[idx]
+        return out
+
+
+@njit(cache=True)
+def _deadband(x, band):
+    out = np.empty_like(x)
+    last = x[0]
+    for k in range(len(x)):
+        v = x[k]
+        if not np.isfinite(v):
+            out[k] = v
+            continue
+        if not np.isfinite(last) or abs(v - last) > band:
+            last = v
+        out[k] = last
+    return out
+
+
+class DeadbandCompression(_Recording):
+    """Per-tag exception-deviation compression: a value is stored when it moved more than a band.
+
+    Each tag keeps its last stored value until the signal departs from it by more than
+    ``band`` times the tag's span; tags freeze independently (unlike :class:`HoldLastValue`),
+    and the stored values stay off any grid (unlike quantisation). Retrieval repeats the last
+    stored value (step interpolation), as trend displays of compressed tags do.
+
+    Parameters
+    ----------
+    band : float
+        Deadband as a share of each channel's 5-95 % range, in (0, 1).
+    channels : tuple of str, default=("pv", "op")
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import DeadbandCompression
+    >>> x = np.sin(np.arange(500) / 20)
+    >>> out = DeadbandCompression(0.1, channels=("pv",)).record({"pv": x}, 1.0, None)
+    >>> bool(np.mean(np.diff(out["pv"]) == 0) > 0.5), bool(np.max(np.abs(out["pv"] - x)) <= 0.2)
+    (True, True)
+    """
+
+    def __init__(self, band, channels=("pv", "op")):
+        self.band = _check_share(band, "band")
+        self.channels = _check_channels(channels)
+
+    def record(self, signals, ts, rng):
+        out = dict(signals)
+        for c in self._present(signals):
+            x = np.asarray(signals[c], dtype=float)
+            out[c] = _deadband(x, self.band * _span(x))
+        return out
+
+
+class IntervalAveraging(_Recording):
+    """Historian interval averages: each stored sample is the mean of the last ``window`` ones.
+
+    Parameters
+    ----------
+    window : int
+        Averaging interval in samples (>= 2).
+    channels : tuple of str, default=("pv", "op")
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import IntervalAveraging
+    >>> out = IntervalAveraging(2, channels=("pv",)).record({"pv": np.array([0., 2, 4])}, 1., None)
+    >>> out["pv"].tolist()
+    [0.0, 1.0, 3.0]
+    """
+
+    def __init__(self, window, channels=("pv", "op")):
+        if not (isinstance(window, numbers.Integral) and window >= 2):
+            raise ValueError(f"window must be an integer >= 2; got {window!r}.")
+        self.window = int(window)
+        self.channels = _check_channels(channels)
+
+    def record(self, signals, ts, rng):
+        out = dict(signals)
+        m = self.window
+        for c in self._present(signals):
+            x = np.asarray(signals[c], dtype=float)
+            # the first samples average what exists so far (no start-up artefact)
+            c0 = np.concatenate([[0.0], np.cumsum(x)])
+            k = np.arange(1, len(x) + 1)
+            lo = np.maximum(k - m, 0)
+            out[c] = (c0[k] - c0[lo]) / (k - lo)
+        return out
+
+
+class SpanQuantization(_Recording):
+    """Values rounded to a grid whose step is a share of each channel's span.
+
+    Like :class:`~sktiction.simulation.Quantization`, with a step relative to the record
+    (coarse A/D converters, integer percent, few stored digits).
+
+    Parameters
+    ----------
+    step : float
+        Grid step as a share of the channel's 5-95 % range, in (0, 1).
+    channels : tuple of str, default=("pv",)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import SpanQuantization
+    >>> x = np.linspace(0, 1, 101)
+    >>> out = SpanQuantization(0.1).record({"pv": x}, 1.0, None)
+    >>> len(np.unique(out["pv"]))
+    12
+    """
+
+    def __init__(self, step, channels=("pv",)):
+        self.step = _check_share(step, "step")
+        self.channels = _check_channels(channels)
+
+    def record(self, signals, ts, rng):
+        out = dict(signals)
+        for c in self._present(signals):
+            x = np.asarray(signals[c], dtype=float)
+            q = self.step * _span(x)
+            out[c] = np.round(x / q) * q if q > 0 else x
+        return out
+
+
+class Spikes(_Recording):
+    """Isolated wild samples (transmitter glitches, communication errors).
+
+    Parameters
+    ----------
+    rate : float
+        Expected spikes per sample, in (0, 0.5).
+    amplitude : float, default=1.0
+        Spike size as a multiple of the channel's span (> 0); each spike is drawn uniformly
+        in 0.5-1.5 times it, with a random sign.
+    channels : tuple of str, default=("pv",)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import Spikes
+    >>> x = np.sin(np.arange(1000) / 20)
+    >>> out = Spikes(0.01).record({"pv": x}, 1.0, np.random.default_rng(0))
+    >>> int(np.sum(out["pv"] != x)) > 0
+    True
+    """
+
+    def __init__(self, rate, amplitude=1.0, channels=("pv",)):
+        self.rate = _check_share(rate, "rate", upper=0.5)
+        self.amplitude = check_positive(amplitude, "amplitude")
+        self.channels = _check_channels(channels)
+
+    def record(self, signals, ts, rng):
+        out = dict(signals)
+        n = _finite_length(signals)
+        for c in self._present(signals):
+            x = np.asarray(signals[c], dtype=float).copy()
+            hit = np.flatnonzero(rng.random(n) < self.rate)
+            size = self.amplitude * _span(x[:n]) * rng.uniform(0.5, 1.5, len(hit))
+            x[hit] += size * rng.choice([-1.0, 1.0], len(hit))
+            out[c] = x
+        return out
+
+
+class SensorDrift(_Recording):
+    """A slow linear drift added to the recorded measurement (a drifting transmitter).
+
+    Parameters
+    ----------
+    size : float
+        Total drift over the record as a multiple of the channel's span (> 0), random sign.
+    channels : tuple of str, default=("pv",)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import SensorDrift
+    >>> x = np.sin(np.arange(1000) / 20)
+    >>> out = SensorDrift(1.0).record({"pv": x}, 1.0, np.random.default_rng(0))
+    >>> round(float(abs(out["pv"][-1] - x[-1])), 1)
+    2.0
+    """
+
+    def __init__(self, size, channels=("pv",)):
+        self.size = check_positive(size, "size")
+        self.channels = _check_channels(channels)
+
+    def record(self, signals, ts, rng):
+        out = dict(signals)
+        n = _finite_length(signals)
+        ramp = np.zeros(len(signals["pv"]))
+        ramp[:n] = np.linspace(0.0, 1.0, n) if n > 1 else 0.0
+        sign = rng.choice([-1.0, 1.0])
+        for c in self._present(signals):
+            x = np.asarray(signals[c], dtype=float)
+            out[c] = x + sign * self.size * _span(x[:n]) * ramp
+        return out
+
+
+class ShortRecord(_Recording):
+    """Keep only the first ``n_samples`` samples; the rest becomes NaN padding.
+
+    Parameters
+    ----------
+    n_samples : int
+        Samples kept (>= 2).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import ShortRecord
+    >>> ShortRecord(2).record({"pv": np.ones(4)}, 1.0, None)["pv"].tolist()
+    [1.0, 1.0, nan, nan]
+    """
+
+    def __init__(self, n_samples):
+        if not (isinstance(n_samples, numbers.Integral) and n_samples >= 2):
+            raise ValueError(f"n_samples must be an integer >= 2; got {n_samples!r}.")
+        self.n_samples = int(n_samples)
+
+    def record(self, signals, ts, rng):
+        out = dict(signals)
+        for c, x in signals.items():
+            x = np.asarray(x, dtype=float).copy()
+            x[self.n_samples :] = np.nan
+            out[c] = x
+        return out
