@@ -16,6 +16,15 @@ from .effects import (
     SinusoidalDisturbance,
     WhiteNoise,
 )
+from .historian import (
+    DeadbandCompression,
+    HoldLastValue,
+    IntervalAveraging,
+    SensorDrift,
+    ShortRecord,
+    SpanQuantization,
+    Spikes,
+)
 from .loop import simulate_loop, simulate_loops
 from .plants import FOPTD, SOPTD, IntegratingPlant, NthOrderLag
 from .valves import (
@@ -54,6 +63,13 @@ __all__ = [
     "Quantization",
     "simulate_loop",
     "simulate_loops",
+    "HoldLastValue",
+    "DeadbandCompression",
+    "IntervalAveraging",
+    "SpanQuantization",
+    "Spikes",
+    "SensorDrift",
+    "ShortRecord",
 ]
 
 from .disturbances import (  # noqa: E402
