@@ -178,3 +178,56 @@ def test_bad_parameters():
         AreaRatio(filter="butterworth").fit(X)
     with pytest.raises(ValueError, match="min_cycles"):
         AreaRatio(min_cycles=0).fit(X)
+
+
+def _ratios_one_half_at_a_time(analysis):
+    """The half-cycle loop the vectorised ``half_cycle_ratios`` replaced (reference)."""
+    x = analysis.centred
+    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (x[1:] + x[:-1]))])
+    idx = np.arange(cumulative.size)
+    halves = np.unique(analysis.cycles[:, :2])
+    out = []
+    for k in halves:
+        a, b, s, p = (analysis.crossings[k], analysis.crossings[k + 1], analysis.signs[k],
+                      analysis.peaks[k])
+        a1 = s * (np.interp(p, idx, cumulative) - np.interp(a, idx, cumulative))
+        a2 = s * (np.interp(b, idx, cumulative) - np.interp(p, idx, cumulative))
+        out.append(a1 / a2 if a2 > 0 and a1 >= 0 else np.nan)
+    return np.array(out), halves
+
+
+def test_vectorised_ratios_equal_the_half_cycle_loop():
+    from sktiction.cycles import analyze_cycles
+    from sktiction.datasets import make_loops
+    from sktiction.features.area_ratio import half_cycle_ratios
+
+    X, _ = make_loops(12, n_samples=3000, random_state=7)
+    checked = 0
+    for x in X:
+        analysis = analyze_cycles(x[:, 2] - x[:, 0])
+        ratios, halves = half_cycle_ratios(analysis)
+        ref, ref_halves = _ratios_one_half_at_a_time(analysis)
+        np.testing.assert_array_equal(halves, ref_halves)
+        np.testing.assert_allclose(ratios, ref, rtol=1e-12, equal_nan=True)
+        checked += halves.size
+    assert checked > 100
+
+
+def test_shared_analysis_gives_the_same_features_and_is_computed_once():
+    from sktiction import TemplateDistances
+    from sktiction._validation import check_loops
+    from sktiction.datasets import make_loops
+    from sktiction.features._loops import analyse_loops
+
+    X, _ = make_loops(6, n_samples=2000, stiction_fraction=1.0, random_state=8)
+    loops = check_loops(X)
+    analyses = analyse_loops(loops)
+    ar, td = AreaRatio().fit(X), TemplateDistances().fit(X)
+    shared = ar.transform_analysed(loops, analyses), td.transform_analysed(loops, analyses)
+    np.testing.assert_array_equal(shared[0], ar.transform(X))
+    np.testing.assert_array_equal(shared[1], td.transform(X))
+    # the error was analysed for the area ratio and the op/pv cycles for the templates:
+    # asking again returns the kept objects
+    first = analyses[0]
+    assert first.cycles("error") is first.cycles("error")
+    assert {k[1] for k in first._memo if k[0] == "cycles"} == {"error", "op", "pv"}

@@ -7,6 +7,7 @@ from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, column_or_1d
 
 from .._validation import loop_status, validate_loops
+from ..features._loops import analyse_loops
 
 #: Why a loop got no stiction verdict; ``"ok"`` when it was analysed.
 REASON_NOT_OSCILLATING = "not_oscillating"
@@ -17,8 +18,10 @@ class LoopClassifierMixin:
 
     Labels are fixed: 0 = no stiction (or no verdict possible), 1 = stiction.
     Subclasses implement ``_fit_loops(loops, y)`` (may do nothing) and
-    ``_score_loops(loops)`` returning a DataFrame with at least ``score`` (larger means
-    more likely sticky), ``prediction`` and ``reason``.
+    ``_score_loops(loops, analyses=None, status=None)`` returning a DataFrame with at
+    least ``score`` (larger means more likely sticky), ``prediction`` and ``reason``;
+    ``analyses`` are the loops' shared analyses (computed when ``None``) and
+    ``status`` their :func:`~sktiction._validation.loop_status` when known.
     """
 
     _require_op = False
@@ -82,8 +85,33 @@ class LoopClassifierMixin:
             and the classifier's own evidence columns.
         """
         loops = self._checked(X)
-        report = self._score_loops(loops)
-        status = loop_status(loops, require_op=self._require_op)
+        return self.diagnose_analysed(loops, analyse_loops(loops))
+
+    def diagnose_analysed(self, loops, analyses, status=None):
+        """:meth:`diagnose` of checked loops whose analyses may already be done.
+
+        A scan builds one :class:`~sktiction.features._loops.LoopAnalysis` per loop
+        and hands it to every classifier, so each signal is analysed once.
+
+        Parameters
+        ----------
+        loops : ndarray of shape (n_loops, n_samples, 3)
+            Checked loops (:func:`~sktiction._validation.check_loops`).
+        analyses : list of LoopAnalysis
+            One per loop (:func:`~sktiction.features._loops.analyse_loops`).
+        status : ndarray of str or None, default=None
+            :func:`~sktiction._validation.loop_status` with this classifier's
+            ``require_op``, if already known.
+
+        Returns
+        -------
+        report : pandas.DataFrame
+            As :meth:`diagnose`.
+        """
+        check_is_fitted(self, "classes_")
+        if status is None:
+            status = loop_status(loops, require_op=self._require_op)
+        report = self._score_loops(loops, analyses, status)
         bad = status != "ok"
         report.loc[bad, "reason"] = status[bad]
         report.loc[bad, "prediction"] = 0

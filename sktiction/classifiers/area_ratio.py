@@ -7,6 +7,7 @@ import pandas as pd
 from sklearn.base import BaseEstimator, ClassifierMixin, clone
 
 from ..features import AreaRatio
+from ..features._loops import analyse_loops
 from ._base import REASON_NOT_OSCILLATING, LoopClassifierMixin
 
 
@@ -70,9 +71,11 @@ class AreaRatioClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator):
         self.area_ratio_ = clone(self.area_ratio if self.area_ratio is not None else AreaRatio())
         self.area_ratio_.fit(loops)
 
-    def _score_loops(self, loops):
+    def _score_loops(self, loops, analyses=None, status=None):
+        if analyses is None:
+            analyses = analyse_loops(loops)
         feats = pd.DataFrame(
-            self.area_ratio_.transform(loops),
+            self.area_ratio_.transform_analysed(loops, analyses, status),
             columns=self.area_ratio_.get_feature_names_out(),
         )
         r = feats["area_ratio"].to_numpy(dtype=float)

@@ -8,6 +8,7 @@ from sklearn.base import BaseEstimator, ClassifierMixin, clone
 
 from .._validation import OP
 from ..features import TemplateDistances
+from ..features._loops import analyse_loops
 from ._base import REASON_NOT_OSCILLATING, LoopClassifierMixin
 
 #: (OP shape, PV shape) pairs that mean stiction, per loop type (seed 001 Table 1).
@@ -130,12 +131,15 @@ class ShapeLibraryClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator
         templates = self.templates if self.templates is not None else TemplateDistances()
         self.templates_ = clone(templates).set_params(signals=("op", "pv"))
         self.templates_._validate_params()
+        self.templates_.n_channels_in_ = self.n_channels_in_  # stateless: fitted as it is
 
-    def _sticky_cycles(self, loops):
+    def _sticky_cycles(self, loops, analyses=None, status=None):
         """The cycle table with ``loop_type`` and ``sticky`` per cycle."""
         if np.isnan(loops[:, :, OP]).all():  # no OP at all: every loop says missing_op
             return pd.DataFrame()
-        table = self.templates_.fit(loops).cycle_table(loops)
+        if analyses is None:
+            analyses = analyse_loops(loops)
+        table = self.templates_.cycle_table_analysed(loops, analyses, status)
         if table.empty:
             return table.assign(loop_type=pd.Series(dtype=str), sticky=pd.Series(dtype=bool))
         if self.loop_type == "auto":
@@ -147,8 +151,8 @@ class ShapeLibraryClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator
         table["sticky"] = [(op, pv) in SHAPE_LIBRARY.get(lt, ()) for lt, op, pv in pairs]
         return table
 
-    def _score_loops(self, loops):
-        table = self._sticky_cycles(loops)
+    def _score_loops(self, loops, analyses=None, status=None):
+        table = self._sticky_cycles(loops, analyses, status)
         n = len(loops)
         report = pd.DataFrame(
             {

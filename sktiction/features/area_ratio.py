@@ -5,15 +5,18 @@ from __future__ import annotations
 import numpy as np
 
 from ..cycles import analyze_cycles, horch_filter
-from ._loops import LoopTransformer, control_error
+from ._loops import LoopTransformer
 
 FILTERS = (None, "horch")
 
 
-def _integral(cumulative, a, b):
-    """Integral from ``a`` to ``b`` (fractional indices) of the piecewise-linear signal."""
+def _integrals(cumulative, a, b):
+    """Integrals from ``a`` to ``b`` (arrays of fractional indices) of the piecewise-linear
+    signal whose trapezoidal cumulative integral is ``cumulative``: one interpolation
+    for all half-cycles, O(n + h log n) instead of O(n) per half-cycle."""
     idx = np.arange(cumulative.size)
-    return np.interp(b, idx, cumulative) - np.interp(a, idx, cumulative)
+    ends = np.interp(np.concatenate([a, b]), idx, cumulative)
+    return ends[a.size :] - ends[: a.size]
 
 
 def half_cycle_ratios(analysis, signal=None):
@@ -46,13 +49,47 @@ def half_cycle_ratios(analysis, signal=None):
         return np.empty(0), halves
     # trapezoidal cumulative integral, one value per sample
     cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (x[1:] + x[:-1]))])
-    ratios = np.empty(halves.size)
-    for j, k in enumerate(halves):
-        a, b, s, p = c[k], c[k + 1], analysis.signs[k], analysis.peaks[k]
-        a1 = s * _integral(cumulative, a, p)
-        a2 = s * _integral(cumulative, p, b)
-        ratios[j] = a1 / a2 if a2 > 0 and a1 >= 0 else np.nan
+    a, b = c[halves], c[halves + 1]
+    s, p = analysis.signs[halves], analysis.peaks[halves].astype(float)
+    areas = _integrals(cumulative, np.concatenate([a, p]), np.concatenate([p, b]))
+    a1, a2 = s * areas[: halves.size], s * areas[halves.size :]
+    ok = (a2 > 0) & (a1 >= 0)
+    ratios = np.full(halves.size, np.nan)
+    ratios[ok] = a1[ok] / a2[ok]
     return ratios, halves
+
+
+def _ratios(analysis, filter):
+    signal = None
+    if filter == "horch" and np.isfinite(analysis.period):
+        signal = horch_filter(analysis.centred, analysis.period)
+    return half_cycle_ratios(analysis, signal)
+
+
+def loop_half_cycles(loop, filter=None, min_cycles=3):
+    """Control-error analysis and per-half-cycle R of one loop, computed once per loop.
+
+    Parameters
+    ----------
+    loop : LoopAnalysis
+        The loop's shared analysis (:class:`~sktiction.features._loops.LoopAnalysis`).
+    filter : {None, "horch"}, default=None
+        As in :class:`AreaRatio`.
+    min_cycles : int, default=3
+        As in :class:`AreaRatio`.
+
+    Returns
+    -------
+    analysis : CycleAnalysis
+    ratios : ndarray
+    halves : ndarray of int
+        As :func:`half_cycle_ratios`.
+    """
+    analysis = loop.cycles("error", min_cycles)
+    ratios, halves = loop.memo(
+        ("half_cycle_ratios", filter, int(min_cycles)), lambda: _ratios(analysis, filter)
+    )
+    return analysis, ratios, halves
 
 
 class AreaRatio(LoopTransformer):
@@ -111,15 +148,11 @@ class AreaRatio(LoopTransformer):
 
     def half_cycles(self, error):
         """Analysis and per-half-cycle R of one control-error signal."""
-        analysis = analyze_cycles(error, min_cycles=self.min_cycles)
-        signal = None
-        if self.filter == "horch" and np.isfinite(analysis.period):
-            signal = horch_filter(analysis.centred, analysis.period)
-        ratios, halves = half_cycle_ratios(analysis, signal)
-        return analysis, ratios, halves
+        analysis = analyze_cycles(error, min_cycles=int(self.min_cycles))
+        return (analysis, *_ratios(analysis, self.filter))
 
-    def _transform_loop(self, loops, i, n):
-        analysis, ratios, _ = self.half_cycles(control_error(loops, i, n))
+    def _transform_analysis(self, loop):
+        analysis, ratios, _ = loop_half_cycles(loop, self.filter, self.min_cycles)
         ratios = ratios[np.isfinite(ratios)]
         if not analysis.oscillating or ratios.size == 0:
             return [np.nan, np.nan, np.nan, 0.0]

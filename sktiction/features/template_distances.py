@@ -6,15 +6,13 @@ import numpy as np
 import pandas as pd
 from sklearn.utils.validation import check_is_fitted
 
-from .._validation import OP, PV, check_loops, loop_lengths, loop_status
-from ..cycles import analyze_cycles
-from ._loops import LoopTransformer, control_error
-from .area_ratio import half_cycle_ratios
-from .templates import SHAPES, match_cycles
+from .._validation import check_loops, loop_status
+from ._loops import LoopAnalysis, LoopTransformer, analyse_loops
+from .area_ratio import loop_half_cycles
+from .templates import SHAPES, match_cycles, range_extrema
 
 SIGNALS = ("op", "pv")
 BACKENDS = ("numba", "tslearn")
-_CHANNEL = {"op": OP, "pv": PV}
 
 
 def _feature_names(signals):
@@ -37,8 +35,16 @@ def _nearest_cycles(reference, analysis):
     if starts.size == 0:
         return reference
     own = np.column_stack([c[starts], c[starts + 1], c[starts + 2]])
-    centres = own[:, [0, 2]].mean(axis=1)
-    pick = np.abs(centres[None, :] - reference[:, [0, 2]].mean(axis=1)[:, None]).argmin(axis=1)
+    centres = own[:, [0, 2]].mean(axis=1)  # increasing, as the crossings are
+    wanted = reference[:, [0, 2]].mean(axis=1)
+    # nearest centre by bisection (linear in the cycles); a tie goes to the earlier one
+    right = np.clip(np.searchsorted(centres, wanted), 1, max(centres.size - 1, 1))
+    left = right - 1
+    if centres.size == 1:
+        return own[np.zeros(len(reference), dtype=int)]
+    pick = np.where(
+        np.abs(centres[left] - wanted) <= np.abs(centres[right] - wanted), left, right
+    )
     return own[pick]
 
 
@@ -131,12 +137,19 @@ class TemplateDistances(LoopTransformer):
 
     def _cycles(self, loops, i, n):
         """Per-signal (analysis, bounds, distances) of one loop; None if it does not oscillate."""
+        return self._cycles_analysed(LoopAnalysis(loops, i, n))
+
+    def _cycles_analysed(self, loop):
+        """:meth:`_cycles` from the loop's shared analysis, computed once per loop."""
         signals = tuple(self.signals)
+        radius = self.sakoe_chiba_radius
+        key = ("templates", signals, int(self.n_points), None if radius is None else int(radius),
+               self.dtw_backend, int(self.min_cycles))
+        return loop.memo(key, lambda: self._match(loop, signals))
+
+    def _match(self, loop, signals):
         lead = "op" if "op" in signals else "pv"
-        analyses = {
-            s: analyze_cycles(loops[i, :n, _CHANNEL[s]], min_cycles=self.min_cycles)
-            for s in signals
-        }
+        analyses = {s: loop.cycles(s, self.min_cycles) for s in signals}
         ref = analyses[lead]
         if not ref.oscillating or len(ref.cycles) == 0:
             return None
@@ -156,8 +169,8 @@ class TemplateDistances(LoopTransformer):
             out[s] = (analyses[s], bounds[s], d)
         return out
 
-    def _transform_loop(self, loops, i, n):
-        found = self._cycles(loops, i, n)
+    def _transform_analysis(self, loop):
+        found = self._cycles_analysed(loop)
         row = np.full(len(self.feature_names), np.nan)
         if found is None:
             row[-1] = 0.0
@@ -196,40 +209,78 @@ class TemplateDistances(LoopTransformer):
         check_is_fitted(self, "n_channels_in_")
         loops = check_loops(X)
         self._check_channels(loops)
-        status = loop_status(loops, require_op=self._needs_op)
+        return self.cycle_table_analysed(loops, analyse_loops(loops))
+
+    def cycle_table_analysed(self, loops, analyses, status=None):
+        """:meth:`cycle_table` of checked loops whose analyses may already be done.
+
+        Parameters
+        ----------
+        loops : ndarray of shape (n_loops, n_samples, 3)
+            Checked loops.
+        analyses : list of LoopAnalysis
+            One per loop, shared with other users (see :meth:`transform_analysed`).
+        status : ndarray of str or None, default=None
+            :func:`~sktiction._validation.loop_status` with ``require_op`` as this
+            transformer needs, if already known.
+
+        Returns
+        -------
+        table : pandas.DataFrame
+            As :meth:`cycle_table`.
+        """
+        if status is None:
+            status = loop_status(loops, require_op=self._needs_op)
         lead = "op" if "op" in self.signals else "pv"
-        rows = []
-        for i, n in enumerate(loop_lengths(loops)):
-            n = int(n)
-            found = None if status[i] != "ok" else self._cycles(loops, i, n)
-            if found is None:
-                continue
-            ana, bounds, _ = found[lead]
-            err = analyze_cycles(control_error(loops, i, n), min_cycles=self.min_cycles)
-            ratios, halves = half_cycle_ratios(err)
-            mids = (err.crossings[halves] + err.crossings[halves + 1]) / 2 if halves.size else []
-            for c, (a, _m, b) in enumerate(bounds):
-                seg = ana.centred[int(np.floor(a)) : int(np.ceil(b)) + 1]
-                inside = (np.asarray(mids) >= a) & (np.asarray(mids) < b)
-                r = ratios[inside] if np.any(inside) else np.array([np.nan])
-                row = {
-                    "loop": i,
-                    "cycle": c,
-                    "start": a,
-                    "end": b,
-                    "period": b - a,
-                    "amplitude_pos": float(seg.max()),
-                    "amplitude_neg": float(-seg.min()),
-                    "area_ratio": float(np.nanmean(r)) if np.isfinite(r).any() else np.nan,
-                }
-                for s in self.signals:
-                    sana, sb, d = found[s]
-                    x = sana.centred[int(np.floor(sb[c, 0])) : int(np.ceil(sb[c, 2])) + 1]
-                    row[f"{s}_shape"] = SHAPES[int(np.argmin(d[c]))]
-                    row[f"{s}_peak_to_peak"] = float(np.ptp(x))
-                    row.update({f"{s}_dist_{sh}": d[c, q] for q, sh in enumerate(SHAPES)})
-                rows.append(row)
-        return pd.DataFrame(rows)
+        parts = []
+        for i, loop in enumerate(analyses):
+            found = None if status[i] != "ok" else self._cycles_analysed(loop)
+            if found is not None:
+                parts.append(self._loop_cycle_table(loop, found, lead))
+        if not parts:
+            return pd.DataFrame()
+        return pd.concat(parts, ignore_index=True)
+
+    def _loop_cycle_table(self, loop, found, lead):
+        """The cycle-table columns of one loop, one array per column."""
+        ana, bounds, _ = found[lead]
+        a, b = bounds[:, 0], bounds[:, 2]
+        n_cyc = len(bounds)
+        err, ratios, halves = loop_half_cycles(loop, None, self.min_cycles)
+        # mean finite R of the error's half-cycles whose middle lies in [a, b): the
+        # middles increase, so each cycle's halves are one run found by bisection
+        mids = (err.crossings[halves] + err.crossings[halves + 1]) / 2 if halves.size else []
+        mids = np.asarray(mids, dtype=float)
+        finite = np.isfinite(ratios)
+        csum = np.concatenate([[0.0], np.cumsum(np.where(finite, ratios, 0.0))])
+        ccount = np.concatenate([[0], np.cumsum(finite)])
+        lo, hi = np.searchsorted(mids, a, "left"), np.searchsorted(mids, b, "left")
+        count = ccount[hi] - ccount[lo]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            area = np.where(count > 0, (csum[hi] - csum[lo]) / count, np.nan)
+        first = np.floor(a).astype(np.int64)
+        top, bottom = range_extrema(ana.centred, first, np.ceil(b).astype(np.int64) + 1)
+        cols = {
+            "loop": np.full(n_cyc, loop.i),
+            "cycle": np.arange(n_cyc),
+            "start": a,
+            "end": b,
+            "period": b - a,
+            "amplitude_pos": top,
+            "amplitude_neg": -bottom,
+            "area_ratio": area,
+        }
+        for s in self.signals:
+            sana, sb, d = found[s]
+            hi_s, lo_s = range_extrema(
+                sana.centred,
+                np.floor(sb[:, 0]).astype(np.int64),
+                np.ceil(sb[:, 2]).astype(np.int64) + 1,
+            )
+            cols[f"{s}_shape"] = np.asarray(SHAPES, dtype=object)[np.argmin(d, axis=1)]
+            cols[f"{s}_peak_to_peak"] = hi_s - lo_s
+            cols.update({f"{s}_dist_{sh}": d[:, q] for q, sh in enumerate(SHAPES)})
+        return pd.DataFrame(cols)
 
 
 def cycle_table(X, **params):

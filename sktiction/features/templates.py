@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 from .._validation import check_random_state_seed
 from .dtw import paired_dtw, tslearn_paired_dtw
@@ -66,6 +67,44 @@ def resample(x, start, end, n_points, cumulative=None):
     # integral of the piecewise-constant signal (sample i covers [i - 0.5, i + 0.5))
     integral = np.interp(edges + 0.5, np.arange(c.size), c)
     return np.diff(integral, axis=-1) / np.diff(edges, axis=-1)
+
+
+@njit(cache=True, nogil=True)
+def _range_extrema(x, starts, stops):
+    top = np.empty(starts.size)
+    bottom = np.empty(starts.size)
+    for k in range(starts.size):
+        lo, hi = max(starts[k], 0), min(stops[k], x.size)
+        t, b = -np.inf, np.inf
+        for i in range(lo, hi):
+            if x[i] > t:
+                t = x[i]
+            if x[i] < b:
+                b = x[i]
+        top[k], bottom[k] = t, b
+    return top, bottom
+
+
+def range_extrema(x, starts, stops):
+    """Largest and smallest value of ``x[starts[k]:stops[k]]`` for every k.
+
+    One compiled pass over the ranges (cycles of a loop barely overlap, so this is
+    linear in the record length); an empty range gives ``-inf, inf``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.features.templates import range_extrema
+    >>> top, bottom = range_extrema(np.array([0.0, 3, -1, 2]), np.array([0, 2]),
+    ...                             np.array([2, 9]))
+    >>> top.tolist(), bottom.tolist()
+    ([3.0, 2.0], [0.0, -1.0])
+    """
+    return _range_extrema(
+        np.ascontiguousarray(x, dtype=float),
+        np.ascontiguousarray(starts, dtype=np.int64),
+        np.ascontiguousarray(stops, dtype=np.int64),
+    )
 
 
 def match_cycles(x, bounds, *, n_points=32, sakoe_chiba_radius=2, backend="numba"):
