@@ -1,0 +1,107 @@
+"""What make_loops puts in X, measured from X, checked against what meta says.
+
+``meta`` can list an effect that never reached the signals (noise dropped, a wrong
+stiction band, a setpoint step lost); these tests measure each effect in X itself.
+"""
+
+import ast
+import inspect
+import re
+from math import comb
+
+import numpy as np
+import pytest
+from scipy.stats import spearmanr
+
+from sktiction.datasets import make_loops
+
+# Pin the simulated world these checks were written for, once make_loops offers it.
+CLASSIC = {"world": "classic"} if "world" in inspect.signature(make_loops).parameters else {}
+
+
+def _ar_phi(effects):
+    """AR(1) coefficient of the loop's measurement noise (0 for white noise)."""
+    m = re.search(r"ARNoise\(phi=([0-9.eE+-]+)", effects)
+    return float(m.group(1)) if m else 0.0
+
+
+def measured_snr_db(pv, phi, order=3):
+    """SNR of PV's measurement noise, from PV alone (second half, as ``snr_db`` is defined).
+
+    The ``order``-th difference removes the slow signal and keeps the noise, whose
+    variance through that filter is known for AR(1) noise of coefficient ``phi``; a
+    median absolute deviation ignores the few large differences of valve slips.
+    """
+    half = pv[len(pv) // 2 :]
+    c = np.array([(-1) ** i * comb(order, i) for i in range(order + 1)], dtype=float)
+    lags = np.abs(np.subtract.outer(np.arange(order + 1), np.arange(order + 1)))
+    gain = c @ (phi**lags) @ c  # variance of the filtered unit AR(1) noise
+    d = np.convolve(half, c, "valid")
+    noise_var = (np.median(np.abs(d - np.median(d))) / 0.6745) ** 2 / gain
+    return 10 * np.log10(max(half.var() - noise_var, 1e-300) / noise_var)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_measured_noise_matches_snr_db(seed):
+    # Oscillating loops with 10-30 dB noise: there the noise is what the highest
+    # frequencies of PV hold (in quiet healthy loops the random-walk load's increments
+    # are as large as the noise, and the SNR cannot be read from PV alone).
+    X, _, meta = make_loops(
+        40, 2000, causes=("external_disturbance",), snr_db_range=(10.0, 30.0),
+        random_state=seed, return_meta=True, **CLASSIC,
+    )  # fmt: skip
+    measured = np.array([measured_snr_db(X[i, :, 0], _ar_phi(e)) for i, e in
+                         enumerate(meta["effects"])])  # fmt: skip
+    err = measured - meta["snr_db"].to_numpy()
+    # measured on seeds 0 and 1: every loop within 2.3 dB, median within 0.2 dB
+    assert np.abs(err).max() < 4.0, np.round(err, 1)
+    assert abs(np.median(err)) < 1.0
+    # noise ten times too small would read 20 dB high
+    assert spearmanr(measured, meta["snr_db"])[0] > 0.9
+
+
+def test_op_swing_of_sticky_loops_follows_the_stiction_band():
+    """In a stiction limit cycle OP must travel through the band S to move the valve."""
+    X, _, meta = make_loops(
+        40, 2000, stiction_fraction=1.0, random_state=0, return_meta=True, **CLASSIC
+    )
+    op = X[:, 1000:, 1]
+    swing = np.quantile(op, 0.98, axis=1) - np.quantile(op, 0.02, axis=1)
+    ratio = swing / meta["S"].to_numpy()
+    # measured on seeds 0-2: ratio 0.95-1.8 (one outlier of 120 at 6), median 1.1
+    assert np.mean((ratio > 0.85) & (ratio < 2.5)) >= 0.9, np.round(ratio, 2)
+    assert 0.95 < np.median(ratio) < 1.5
+    assert spearmanr(meta["S"], swing)[0] > 0.9
+
+
+def _steps(effects):
+    """(times, sizes) of the SetpointSteps listed in a meta ``effects`` string."""
+    m = re.search(r"SetpointSteps\(times=(\([^)]*\)|\[[^\]]*\]), sizes=(\([^)]*\)|\[[^\]]*\])",
+                  effects)  # fmt: skip
+    if m is None:
+        return np.array([]), np.array([])
+    return np.atleast_1d(ast.literal_eval(m.group(1))), np.atleast_1d(ast.literal_eval(m.group(2)))
+
+
+def test_setpoint_steps_are_in_sp_where_meta_lists_them():
+    X, _, meta = make_loops(
+        30, 1500, slip_fraction=0.5, random_state=3, return_meta=True, **CLASSIC
+    )
+    n_with_steps = 0
+    for i, (effects, ts) in enumerate(zip(meta["effects"], meta["ts"])):
+        sp = X[i, :, 2]
+        times, sizes = _steps(effects)
+        times, sizes = times[times < len(sp) * ts], sizes[times < len(sp) * ts]
+        jumps = np.flatnonzero(np.abs(np.diff(sp)) > 1e-9) + 1  # first sample after a jump
+        if len(times) == 0:
+            assert len(jumps) == 0, (i, effects)
+            continue
+        n_with_steps += 1
+        # steps at distinct samples: one jump each, at the step time, of the step size
+        at = np.ceil(times / ts - 1e-9).astype(int)
+        assert len(jumps) == len(np.unique(at)), (i, effects, jumps)
+        assert np.all(np.abs(jumps - np.unique(at)) <= 1), (i, jumps, at)
+        expected = [sizes[at == k].sum() for k in np.unique(at)]
+        assert np.allclose(sp[jumps] - sp[jumps - 1], expected, rtol=1e-9, atol=1e-9)
+    # the draw has loops with and without steps (every sticky loop and half the quiet ones)
+    assert 10 <= n_with_steps < len(X)
