@@ -46,12 +46,16 @@ STATISTIC_COLUMNS = (
     "op_repeat_fraction",
     "row_repeat_fraction",
     "joint_repeat_excess",
+    "hold_fraction",
+    "hold_run_length",
     "independent_freeze",
     "pv_level_reuse",
     "op_level_reuse",
+    "pv_step",
     "pv_band",
     "op_band",
     "spike_rate",
+    "spike_size",
     "pv_drift",
     "op_drift",
     "sp_change_fraction",
@@ -157,14 +161,65 @@ def _band(x, same, span):
 
 
 def _spikes(x, noise, span):
-    if len(x) < 3:
-        return 0
+    """Deviations (share of span) of the samples that leave their 3-point median."""
+    if len(x) < 3 or span <= 0:
+        return np.empty(0)
     med = np.median(np.stack([x[:-2], x[1:-1], x[2:]]), axis=0)
     dev = np.abs(x[1:-1] - med)
     threshold = max(_SPIKE_NOISE_SD * noise, _SPIKE_SPAN * span)
-    if threshold <= 0:
-        return 0
-    return int((dev > threshold).sum())
+    return dev[dev > threshold] / span
+
+
+def _runs(same):
+    """Start and stop (exclusive) of the runs of True in a boolean array."""
+    edges = np.diff(np.concatenate([[0], same.astype(np.int8), [0]]))
+    return np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+
+
+def _freezes(x, same, other_runs, step):
+    """Hold and independent-freeze shares of one channel.
+
+    A run of repeats that starts and stops on the same samples as a run of the other channel
+    (2 samples or more) is a held row; the others are frozen on their own, and count as
+    compression when the jump that ends them is off the grid of the smallest change (a
+    quantised tag jumps by whole steps).
+    """
+    n = max(len(same), 1)
+    start, stop = _runs(same)
+    if other_runs is not None:
+        both = set(zip(*other_runs, strict=True))
+        coincident = np.array(
+            [(a, b) in both for a, b in zip(start, stop, strict=True)], dtype=bool
+        )
+    else:
+        coincident = np.zeros(len(start), dtype=bool)
+    lengths = stop - start
+    # single repeats coincide by chance when both tags are compressed; rows held longer do not
+    held = float(lengths[coincident & (lengths >= 2)].sum() / n)
+    held_len = float(lengths[coincident].mean()) if coincident.any() else np.nan
+    alone = ~coincident & (stop < len(same))
+    if not alone.any() or not np.isfinite(step) or step <= 0:
+        return held, held_len, 0.0
+    d = np.diff(x)
+    jumps = np.abs(d[stop[alone]])
+    ratio = jumps / step
+    off_grid = np.abs(ratio - np.round(ratio)) > 1e-3 * np.maximum(ratio, 1.0)
+    return held, held_len, float(lengths[alone][off_grid].sum() / n)
+
+
+def _run_length(same):
+    """Mean length (samples) of runs of True; NaN without runs."""
+    if not same.any():
+        return np.nan
+    edges = np.diff(np.concatenate([[0], same.astype(np.int8), [0]]))
+    return float(same.sum() / (edges == 1).sum())
+
+
+def _min_change(x):
+    """Smallest non-zero change (the grid step of quantised values); NaN if none."""
+    d = np.abs(np.diff(x))
+    d = d[d > 1e-12 * max(float(np.ptp(x)), 1e-300)]
+    return float(d.min()) if len(d) else np.nan
 
 
 def _robust_var(x):
@@ -253,7 +308,9 @@ def _one_loop(x, ts):
     row.update(noise_colour=colour, diff_acf_min=dip, averaging_lag=lag)
     row.update(pv_repeat_fraction=pv_rep, pv_level_reuse=pv_reuse)
     row["pv_band"] = _band(pv, same_pv, pv_span)
-    spikes = _spikes(pv, pv_noise, pv_span)
+    pv_q = _min_change(pv)
+    row["pv_step"] = pv_q / pv_span if pv_span > 0 else np.nan
+    spikes = [_spikes(pv, pv_noise, pv_span)]
     det, slope = _detrend(err)
     row["pv_drift"] = abs(slope) * n / err_span if err_span > 0 else np.nan
 
@@ -270,13 +327,14 @@ def _one_loop(x, ts):
         row["op_band"] = _band(op, same_op, op_span)
         both = float((same_pv & same_op).mean())
         row["row_repeat_fraction"] = both
+        hold, hold_len, pv_alone = _freezes(pv, same_pv, _runs(same_op), pv_q)
+        _, _, op_alone = _freezes(op, same_op, _runs(same_pv), _min_change(op))
+        row.update(hold_fraction=hold, hold_run_length=hold_len)
+        row["independent_freeze"] = 0.5 * (pv_alone + op_alone)
         # Historian holds freeze whole rows: joint repeats beyond what independent
         # per-tag freezes (compression, quantisation) would give by chance.
         row["joint_repeat_excess"] = both - pv_rep * op_rep
-        row["independent_freeze"] = 0.5 * (
-            (pv_rep - both) * (1.0 - pv_reuse) + (op_rep - both) * (1.0 - op_reuse)
-        )
-        spikes += _spikes(op, op_noise, op_span)
+        spikes.append(_spikes(op, op_noise, op_span))
         op_det, op_slope = _detrend(op)
         row["op_drift"] = abs(op_slope) * n / op_span if op_span > 0 else np.nan
         max_lag = int(min(n // 4, 3 * period if np.isfinite(period) else n // 4))
@@ -289,7 +347,9 @@ def _one_loop(x, ts):
             row["pv_op_lag"] = float(k - max_lag)
         in_pct = op.min() >= -1 and op.max() <= 101 and op.mean() > 2
         row["op_saturation"] = float(np.mean((op <= 0.5) | (op >= 99.5))) if in_pct else np.nan
-    row["spike_rate"] = spikes / n
+    spikes = np.concatenate(spikes)
+    row["spike_rate"] = len(spikes) / n
+    row["spike_size"] = float(np.median(spikes)) if len(spikes) else np.nan
 
     if has_sp and not np.isnan(sp).any():
         dsp = np.abs(np.diff(sp))
@@ -339,6 +399,7 @@ def loop_statistics(X, ts=None):
           lag ``m``; white and AR(1) noise stay near 0 there (interval averaging).
         - ``pv_repeat_fraction``, ``op_repeat_fraction``: share of samples equal to the one
           before; ``row_repeat_fraction``: PV and OP both repeated.
+        - ``hold_run_length``: mean length of the runs where PV and OP both repeat.
         - ``joint_repeat_excess``: ``row_repeat_fraction - pv_repeat * op_repeat``, joint
           freezing beyond chance: whole rows held (hold-last-value); per-tag compression or
           quantisation freeze tags independently and leave it near 0.
@@ -347,10 +408,13 @@ def loop_statistics(X, ts=None):
           swinging-door compression); zero for held rows and for quantised values.
         - ``pv_level_reuse``, ``op_level_reuse``: ``1 - distinct values / (changes + 1)``;
           quantised signals revisit their levels (near 1), continuous ones do not (0).
+        - ``pv_step``: smallest non-zero PV change, share of the span (the grid step when
+          ``pv_level_reuse`` is high).
         - ``pv_band``, ``op_band``: 10th percentile of the jumps that end frozen runs, share of
           the span (the compression band; 0 with fewer than 3 runs).
         - ``spike_rate``: samples of PV or OP departing from their 3-point median by more than
           8 noise sd and 20 % of the span, per sample. Steps (holds, setpoint moves) do not count.
+          ``spike_size``: their median departure, share of the span.
         - ``pv_drift``: linear trend of the error over the record, share of its span; ``op_drift``:
           OP trend over the record, share of the OP span (loads).
         - ``sp_change_fraction``: share of samples whose SP changed (cascade setpoints: most);

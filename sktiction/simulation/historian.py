@@ -123,6 +123,7 @@ class HoldLastValue(_Recording):
     def record(self, signals, ts, rng):
         n = len(signals["pv"])
         held = self.mask(n, rng)
+        held[_finite_length(signals) :] = False  # the NaN padding stays padding
         # index of the last row that was stored, for every row
         idx = np.where(held, 0, np.arange(n))
         np.maximum.accumulate(idx, out=idx)

@@ -1,0 +1,351 @@
+"""The catalog of realism effects: effect, statistic that detects it, simulator side, fit.
+
+Each entry is written in one place so that adding an effect is adding one entry: the column
+of :func:`~sktiction.realism.loop_statistics` that detects it, what else could move that
+column (the skeptic's list), the simulator effect that produces it and how
+:func:`~sktiction.realism.calibrate` fits it. Two kinds:
+
+* ``"recording"``: a historian or sensor effect of :mod:`sktiction.simulation.historian`.
+  ``present`` says on which measured loops it shows, ``params`` reads its parameters from
+  each loop's statistics and ``make`` builds the effect from them.
+* ``"world"``: a property of the simulated loops themselves (noise, setpoint regime, dynamics).
+  ``fit`` turns the measured statistics into keyword arguments of
+  :func:`sktiction.datasets.make_loops` (``None`` when the catalog has none to offer).
+
+The thresholds of ``present`` come from what the statistics mean, not from any data set:
+a hold or a compression must freeze at least 2 % of the samples, quantisation must make most
+changes revisit a level, an averaging dip must reach -0.3 of the -0.5 a trailing mean gives,
+a recorded drift must exceed half the control error's range (integral action keeps a
+controlled error level).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..simulation import historian
+
+__all__ = ["RealismEffect", "EFFECTS", "effect_names"]
+
+# The historian applies effects in this order: sensor, then averaging, grid, compression.
+_HOLD_MIN = 0.02
+_FREEZE_MIN = 0.02
+_REUSE_MIN = 0.5
+_AVERAGING_DIP = -0.3
+_DRIFT_MIN = 0.5
+_OSCILLATING_ACF = 0.3
+_CASCADE_SHARE = 0.2
+
+
+@dataclass(frozen=True)
+class RealismEffect:
+    """One entry of :data:`EFFECTS`.
+
+    Parameters
+    ----------
+    name : str
+        Effect name, e.g. ``"hold_last_value"``.
+    statistic : str
+        Column of :func:`~sktiction.realism.loop_statistics` that detects it.
+    kind : {"recording", "world"}
+        Historian/sensor effect drawn per loop, or a property of the simulated world.
+    simulator : str
+        What produces it in the simulator (an effect class or ``make_loops`` arguments).
+    confounders : str
+        What else could move the statistic, and why it stays put (the skeptic's note).
+    present : callable or None
+        ``present(stats) -> bool array``: loops that show the effect (recording kind).
+    params : callable or None
+        ``params(stats) -> DataFrame``: the effect's parameters read from each loop.
+    make : callable or None
+        ``make(**params) -> Effect``.
+    fit : callable or None
+        ``fit(stats) -> dict`` of ``make_loops`` keyword arguments (world kind).
+
+    Examples
+    --------
+    >>> from sktiction.realism import EFFECTS
+    >>> entry = EFFECTS["hold_last_value"]
+    >>> entry.statistic, entry.kind
+    ('hold_fraction', 'recording')
+    >>> entry.make(fraction=0.3, mean_run=4.0)
+    HoldLastValue(fraction=0.3, mean_run=4.0, channels=('pv', 'op', 'sp'))
+    """
+
+    name: str
+    statistic: str
+    kind: str
+    simulator: str
+    confounders: str
+    present: object = field(default=None, repr=False)
+    params: object = field(default=None, repr=False)
+    make: object = field(default=None, repr=False)
+    fit: object = field(default=None, repr=False)
+
+
+def _col(stats, name):
+    return stats[name].to_numpy(dtype=float)
+
+
+def _frame(**cols):
+    return pd.DataFrame(cols)
+
+
+def _q(values, lo=10, hi=90):
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    if len(values) == 0:
+        return None
+    return tuple(float(v) for v in np.percentile(values, [lo, hi]))
+
+
+def _fit_snr(stats):
+    # noise_level = noise sd / 5-95 % error range; a Gaussian-like error spans about 3.3 sd
+    level = _col(stats, "noise_level")
+    level = level[np.isfinite(level) & (level > 0)]
+    if len(level) == 0:
+        return {}
+    err_sd = 1.0 / 3.3
+    signal = np.sqrt(np.maximum(err_sd**2 - level**2, (0.1 * level) ** 2))
+    snr = np.clip(20 * np.log10(signal / level), -10.0, 60.0)
+    lo, hi = np.percentile(snr, [10, 90])
+    return {"snr_db_range": (float(lo), float(max(hi, lo + 1.0)))}
+
+
+def _fit_period(stats):
+    acf = _col(stats, "acf_peak")
+    period = _col(stats, "period")
+    ok = (acf > _OSCILLATING_ACF) & np.isfinite(period) & (period > 2)
+    if ok.sum() < 3:
+        return {}
+    lo, hi = np.percentile(period[ok], [10, 90])
+    return {"period_range": (float(max(lo, 2.5)), float(max(hi, lo + 1.0)))}
+
+
+def _fit_setpoint(stats):
+    if "has_sp" not in stats or not stats["has_sp"].any():
+        return {}
+    s = stats[stats["has_sp"]]
+    share = _col(s, "sp_change_fraction")
+    steps = _col(s, "sp_steps")
+    regimes = []
+    if np.any(share == 0):
+        regimes.append("constant")
+    if np.any((steps >= 2) & np.isfinite(steps)):
+        regimes.append("steps")
+    if np.any(steps == 1):
+        regimes.append("step")
+    if np.any(share > _CASCADE_SHARE):
+        regimes.append("cascade")
+    return {"setpoint_regimes": tuple(regimes)} if regimes else {}
+
+
+def _fit_colour(stats):
+    colour = _col(stats, "noise_colour")
+    colour = colour[np.isfinite(colour)]
+    if len(colour) == 0:
+        return {}
+    if np.median(colour) < 0.2:
+        return {"noise_colours": ("white",)}
+    return {}
+
+
+def _fit_length(stats):
+    n = _col(stats, "n_samples")
+    n = n[n > 0]
+    return {"min_length": int(max(20, np.percentile(n, 10)))} if len(n) else {}
+
+
+def _fit_slips(stats):
+    return {}
+
+
+_ENTRIES = [
+    # ---- recording effects, in the order the historian applies them ----------------------
+    RealismEffect(
+        "drift",
+        "pv_drift",
+        "recording",
+        "SensorDrift(size): a linear ramp of size x span added to the recorded PV",
+        "slow loads move OP, not the error (integral action); setpoint ramps are removed "
+        "since the error is PV - SP; a loop too sluggish to follow a load also trends.",
+        present=lambda s: _col(s, "pv_drift") > _DRIFT_MIN,
+        params=lambda s: _frame(size=_col(s, "pv_drift")),
+        make=lambda size: historian.SensorDrift(float(max(size, 1e-3))),
+    ),
+    RealismEffect(
+        "spikes",
+        "spike_rate",
+        "recording",
+        "Spikes(rate, amplitude): isolated wild samples of amplitude x span",
+        "steps (holds, setpoint moves, slips) survive a 3-point median, so do not count; "
+        "heavy-tailed noise beyond 8 sd does.",
+        present=lambda s: _col(s, "spike_rate") > 0,
+        params=lambda s: _frame(
+            rate=_col(s, "spike_rate"), amplitude=np.nan_to_num(_col(s, "spike_size"), nan=0.5)
+        ),
+        make=lambda rate, amplitude: historian.Spikes(
+            float(min(max(rate, 1e-5), 0.5)), float(max(amplitude, 0.05))
+        ),
+    ),
+    RealismEffect(
+        "interval_averaging",
+        "diff_acf_min",
+        "recording",
+        "IntervalAveraging(window): trailing mean over window samples (PV and OP)",
+        "white and AR(1) noise leave the second-difference ACF near 0 beyond lag 2; a PV "
+        "filter (first order) does not dip; a moving average does, at its window.",
+        present=lambda s: _col(s, "diff_acf_min") < _AVERAGING_DIP,
+        params=lambda s: _frame(window=_col(s, "averaging_lag")),
+        make=lambda window: historian.IntervalAveraging(int(max(2, round(window)))),
+    ),
+    RealismEffect(
+        "quantisation",
+        "pv_level_reuse",
+        "recording",
+        "SpanQuantization(step): PV on a grid of step x span",
+        "holds and compression repeat values but land on new levels when they move; only "
+        "a grid makes a signal revisit its levels.",
+        present=lambda s: _col(s, "pv_level_reuse") > _REUSE_MIN,
+        params=lambda s: _frame(step=_col(s, "pv_step")),
+        make=lambda step: historian.SpanQuantization(float(min(max(step, 1e-4), 1.0))),
+    ),
+    RealismEffect(
+        "deadband_compression",
+        "independent_freeze",
+        "recording",
+        "DeadbandCompression(band): PV and OP each stored when they moved more than band x span",
+        "held rows freeze PV and OP on the same samples (not counted); quantised tags jump "
+        "by whole grid steps (not counted); a stuck valve freezes the valve, not OP or PV.",
+        present=lambda s: _col(s, "independent_freeze") > _FREEZE_MIN,
+        params=lambda s: _frame(band=np.nanmedian(np.stack([_col(s, "pv_band"),
+                                                            _col(s, "op_band")]), axis=0)),
+        make=lambda band: historian.DeadbandCompression(float(min(max(band, 1e-4), 1.0))),
+    ),
+    RealismEffect(
+        "hold_last_value",
+        "hold_fraction",
+        "recording",
+        "HoldLastValue(fraction, mean_run): whole rows frozen, then all tags jump",
+        "per-tag compression freezes PV and OP on different samples (single coincident "
+        "repeats are not counted); quantisation freezes PV alone.",
+        present=lambda s: _col(s, "hold_fraction") > _HOLD_MIN,
+        params=lambda s: _frame(
+            # runs of one sample are left out of hold_fraction: a share 1 / L**2 of the rows
+            fraction=_col(s, "hold_fraction")
+            / (1.0 - 1.0 / np.maximum(np.nan_to_num(_col(s, "hold_run_length"), nan=2.0), 1.5)
+               ** 2),
+            mean_run=np.nan_to_num(_col(s, "hold_run_length"), nan=2.0),
+        ),
+        make=lambda fraction, mean_run: historian.HoldLastValue(
+            float(min(max(fraction, 1e-3), 0.95)), float(max(mean_run, 1.0))
+        ),
+    ),
+    # ---- properties of the simulated world -----------------------------------------------
+    RealismEffect(
+        "noise_level",
+        "noise_level",
+        "world",
+        "measurement noise SNR (make_loops snr_db_range)",
+        "fast oscillations (a few samples per cycle) add to second differences; holds and "
+        "compression are left out of the estimate; averaging lowers it.",
+        fit=_fit_snr,
+    ),
+    RealismEffect(
+        "noise_colour",
+        "noise_colour",
+        "world",
+        "white, AR(1) or band-limited noise (make_loops noise_colours)",
+        "a smooth signal that dominates first differences pushes it to 1; averaging raises it.",
+        fit=_fit_colour,
+    ),
+    RealismEffect(
+        "setpoint_steps",
+        "sp_steps",
+        "world",
+        "operator setpoint steps (make_loops setpoint_regimes 'step', 'steps')",
+        "cascade setpoints are counted apart (more than 20 % of samples moving); absent SP "
+        "gives NaN, not 0.",
+        fit=_fit_setpoint,
+    ),
+    RealismEffect(
+        "cascade_setpoint",
+        "sp_change_fraction",
+        "world",
+        "remote setpoint moving on most samples (make_loops setpoint_regimes 'cascade')",
+        "a noisy recorded SP would also move on most samples.",
+        fit=_fit_setpoint,
+    ),
+    RealismEffect(
+        "oscillation_regularity",
+        "acf_peak",
+        "world",
+        "clean limit cycles vs noise-driven, lightly damped loops (gain margin, noise colour)",
+        "setpoint steps and drift are removed (error, detrended); short records give noisy ACFs.",
+    ),
+    RealismEffect(
+        "pv_op_phase",
+        "pv_op_corr",
+        "world",
+        "PV following OP in phase: averaging level control, slow loops (make_loops world)",
+        "a common slow trend correlates PV and OP (both detrended first).",
+    ),
+    RealismEffect(
+        "sampling",
+        "decorrelation_lag",
+        "world",
+        "sample time against the loop's dynamics (make_loops period_range)",
+        "heavy noise shortens it (noise decorrelates at once); averaging lengthens it.",
+        fit=_fit_period,
+    ),
+    RealismEffect(
+        "record_length",
+        "n_samples",
+        "world",
+        "record length (make_loops n_samples, short_fraction, min_length)",
+        "none: it is the length before the NaN padding.",
+        fit=_fit_length,
+    ),
+    RealismEffect(
+        "load_drift",
+        "op_drift",
+        "world",
+        "slow loads the loop rejects: OP ramps over the record (make_loops drift draws)",
+        "a setpoint ramp also moves OP; sensor drift moves OP only through the loop.",
+    ),
+    RealismEffect(
+        "operating_offset",
+        "sp_offset",
+        "world",
+        "PV held away from SP (saturated OP, sluggish integral action, P-only level control)",
+        "a recorded SP that is not the one in use (another mode) looks the same.",
+    ),
+]
+
+EFFECTS = {e.name: e for e in _ENTRIES}
+"""Catalog of realism effects, keyed by name, in the historian's order for recording ones."""
+
+
+def effect_names(kind=None):
+    """Names of the catalog's effects, optionally of one kind.
+
+    Parameters
+    ----------
+    kind : {"recording", "world"} or None, default=None
+
+    Returns
+    -------
+    names : list of str
+
+    Examples
+    --------
+    >>> from sktiction.realism import effect_names
+    >>> effect_names("recording")[-2:]
+    ['deadband_compression', 'hold_last_value']
+    """
+    if kind not in (None, "recording", "world"):
+        raise ValueError(f"kind must be None, 'recording' or 'world'; got {kind!r}.")
+    return [e.name for e in _ENTRIES if kind is None or e.kind == kind]
