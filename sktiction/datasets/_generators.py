@@ -7,23 +7,37 @@ import numbers
 import numpy as np
 import pandas as pd
 
-from .._validation import check_positive, check_random_state_seed
+from .._validation import CHANNELS, check_positive, check_random_state_seed
 from ..simulation import (
     FOPTD,
     SOPTD,
     ARNoise,
+    BandLimitedNoise,
+    CascadeSetpoint,
+    ColouredLoad,
+    Drift,
+    HeValve,
     IntegratingPlant,
     LinearValve,
+    NarrowbandDisturbance,
     NthOrderLag,
     PIController,
     RandomWalkLoad,
+    RelayValve,
     SetpointSteps,
     SinusoidalDisturbance,
+    SquareDisturbance,
     WhiteNoise,
     make_valve,
     simulate_loops,
 )
 from ..simulation._threads import single_blas_thread
+from ..simulation.historian import (
+    DeadbandCompression,
+    HoldLastValue,
+    IntervalAveraging,
+    SpanQuantization,
+)
 
 __all__ = ["make_loops"]
 
@@ -52,14 +66,14 @@ def _check_range(value, name, lo=None, hi=None, strict_lo=False):
     return a, b
 
 
-def _phase_crossover(plant, kc, ti, ts):
+def _phase_crossover(plant, kc, ti, ts, n_grid=600):
     """Phase-crossover frequency ``w180`` of the sampled PI loop and the gain margin there.
 
     The hold adds ``ts / 2`` of delay; the controller sign makes the DC loop gain positive.
     """
     A, B, C = plant.state_space()
     scale = plant.delay + max(plant.time_constant, 1e-3) + ts
-    w = np.geomspace(1e-3, 1e3, 600) / scale
+    w = np.geomspace(1e-3, 1e3, n_grid) / scale
     eye = np.eye(A.shape[0])
     rhs = np.broadcast_to(B[:, None], (len(w), len(B), 1))
     G = (np.linalg.solve(1j * w[:, None, None] * eye - A, rhs)[:, :, 0] @ C) * np.sign(plant.gain)
@@ -102,158 +116,11 @@ def _plant_for(order, lam_target, time_constant, gain):
     return plant, L / tau
 
 
-@single_blas_thread
-def make_loops(
-    n_loops=100,
-    n_samples=2000,
-    *,
-    stiction_fraction=0.5,
-    causes=("aggressive_tuning", "external_disturbance", "none"),
-    ts=1.0,
-    lambda_range=(0.1, 1.0),
-    orders=(1, 2, 3, 4, "integrating"),
-    stiction_models=STICTION_MODELS,
-    S_range=(0.5, 10.0),
-    snr_db_range=(10.0, 40.0),
-    period_range=(20.0, 200.0),
-    slip_fraction=0.0,
-    random_state=None,
-    return_meta=False,
-):
-    """Generate simulated control loops, oscillating because of stiction or not.
-
-    Each loop is a closed loop (plant, PI controller, valve) simulated with
-    :func:`sktiction.simulation.simulate_loops`, starting at steady state with
-    PV = SP = 50 and OP = 50 %. Causes:
-
-    * ``"stiction"`` (``y = 1``): sticky valve (relay, Choudhury or Kano model,
-      ``S`` uniform in ``S_range`` % of span, ``J / S`` uniform in 0.2-1),
-      good tuning (AMIGO or CHR; AMIGO or SIMC for integrating plants),
-      started by a setpoint step of 0.3-1 times ``S`` (in PV units). A share
-      ``slip_fraction`` of them has sluggish integral action (``Ti`` 5-20 times
-      the rule's) and 1-4 setpoint moves instead: their stick-slip cycle is longer
-      than the record, which shows only a few slips, as sticky valves often do in
-      plant data (scenario ``"slips"``; the others are ``"limit_cycle"``).
-    * ``"aggressive_tuning"``: healthy valve, AMIGO ``Kc`` raised by a gain
-      factor so that the gain margin is 1.05-1.3 (sustained or slowly decaying
-      oscillation), kept alive by the noise and loads.
-    * ``"external_disturbance"``: healthy valve, good tuning, sinusoidal load at
-      the plant output (amplitude 0.5-2 times the PV change of a 2 % valve move).
-    * ``"none"``: healthy valve, good tuning, only noise, random-walk load and,
-      for half of them, setpoint steps.
-
-    Every loop gets measurement noise (white or AR(1), SNR uniform in
-    ``snr_db_range`` relative to the noise-free PV, see
-    :mod:`sktiction.simulation.effects`) and a small random-walk output load.
-    Choudhury's model re-sticks at every reversal of its input, so a noisy OP
-    freezes it (the weakness Kano et al. 2004 addressed); loops with that model
-    get their noise added to the recorded PV only (their OP is smoother).
-
-    Plants are n-th order lags ``K e^{-Ls} / (T s + 1)^n`` or integrating
-    plants ``K e^{-Ls} / (s (T s + 1))``, ``|K|`` log-uniform in 0.5-2 with a
-    random sign (a quarter direct acting). The delay ``L`` is chosen so the
-    apparent ``lambda = (h + L) / tau`` (Singhal & Salsbury 2005, Eq. 6) is
-    uniform in ``lambda_range``; higher orders whose own lambda exceeds the
-    target get ``L = 0.02 T`` (the meta records the actual value). For integrating
-    plants ``L = lambda T`` and the meta ``lambda`` is NaN.
-
-    All loops share the sample time ``ts``; the plant time constant is scaled
-    so that the expected oscillation period spans a number of samples drawn
-    log-uniformly from ``period_range`` (exact for external disturbances,
-    estimated from the phase-crossover frequency otherwise).
-
-    Parameters
-    ----------
-    n_loops : int, default=100
-        Number of loops (>= 1).
-    n_samples : int, default=2000
-        Samples per loop (>= 2).
-    stiction_fraction : float, default=0.5
-        Share of stiction loops (0-1), rounded to a whole number of loops; the
-        rest is split evenly over ``causes``.
-    causes : tuple of str, default=("aggressive_tuning", "external_disturbance", "none")
-        Non-stiction causes to draw from.
-    ts : float, default=1.0
-        Sample time (> 0), also the time unit of the meta data.
-    lambda_range : tuple of float, default=(0.1, 1.0)
-        Range of ``lambda`` (0 < low <= high).
-    orders : tuple, default=(1, 2, 3, 4, "integrating")
-        Plant orders (integers 1-10) and/or ``"integrating"``, drawn uniformly.
-    stiction_models : tuple of str, default=("relay", "choudhury", "kano")
-        Stiction valve models drawn uniformly for stiction loops.
-    S_range : tuple of float, default=(0.5, 10.0)
-        Stiction band ``S`` (relay ``d``) in % of span (0 < low <= high <= 50).
-    snr_db_range : tuple of float, default=(10.0, 40.0)
-        Signal-to-noise ratio of the measurement noise in dB.
-    period_range : tuple of float, default=(20.0, 200.0)
-        Target oscillation period in samples (2 < low <= high).
-    slip_fraction : float, default=0.0
-        Share (0-1) of stiction loops that show slips during setpoint moves
-        rather than a sustained limit cycle. The seeds' methods need a cycle, so
-        the default leaves these out; training sets for plant data want them.
-    random_state : None, int or numpy.random.Generator, default=None
-        Seed for reproducible output.
-    return_meta : bool, default=False
-        Also return a DataFrame describing each loop.
-
-    Returns
-    -------
-    X : ndarray of shape (n_loops, n_samples, 3)
-        Channels PV, OP (%), SP.
-    y : ndarray of shape (n_loops,), dtype int
-        1 when stiction causes the oscillation, else 0.
-    meta : pandas.DataFrame, only if ``return_meta``
-        One row per loop: ``cause``, ``y``, ``plant``, ``order``, ``gain``,
-        ``time_constant``, ``delay``, ``apparent_time_constant``,
-        ``apparent_delay``, ``lambda``, ``valve``, ``S``, ``J``, ``rule``,
-        ``gain_factor``, ``Kc``, ``Ti``, ``ts``, ``samples_per_cycle``,
-        ``snr_db``, ``scenario``, ``effects``.
-
-    Examples
-    --------
-    >>> from sktiction.datasets import make_loops
-    >>> X, y, meta = make_loops(8, 300, random_state=0, return_meta=True)
-    >>> X.shape, int(y.sum())
-    ((8, 300, 3), 4)
-    >>> sorted(meta["cause"].unique())[:2]
-    ['aggressive_tuning', 'external_disturbance']
-    """
-    if not isinstance(n_loops, numbers.Integral) or n_loops < 1:
-        raise ValueError(f"n_loops must be an integer >= 1; got {n_loops!r}.")
-    if not isinstance(n_samples, numbers.Integral) or n_samples < 2:
-        raise ValueError(f"n_samples must be an integer >= 2; got {n_samples!r}.")
-    stiction_fraction = check_positive(
-        stiction_fraction, "stiction_fraction", strict=False, upper=1.0
-    )
-    causes = tuple(causes)
-    bad = [c for c in causes if c not in CAUSES[1:]]
-    if bad or not causes:
-        raise ValueError(f"causes must be a non-empty subset of {CAUSES[1:]}; got {causes!r}.")
-    ts = check_positive(ts, "ts")
-    lam_lo, lam_hi = _check_range(lambda_range, "lambda_range", lo=0.0, strict_lo=True)
-    orders = tuple(orders)
-    for o in orders:
-        if o != "integrating" and not (isinstance(o, numbers.Integral) and 1 <= o <= 10):
-            raise ValueError(f"orders must hold integers 1-10 or 'integrating'; got {o!r}.")
-    if not orders:
-        raise ValueError("orders must not be empty (integers 1-10 or 'integrating').")
-    stiction_models = tuple(stiction_models)
-    for m in stiction_models:
-        if m not in STICTION_MODELS:
-            raise ValueError(f"stiction_models must be among {STICTION_MODELS}; got {m!r}.")
-    if not stiction_models:
-        raise ValueError(f"stiction_models must be a non-empty subset of {STICTION_MODELS}.")
-    slip_fraction = check_positive(slip_fraction, "slip_fraction", strict=False, upper=1.0)
-    s_lo, s_hi = _check_range(S_range, "S_range", lo=0.0, hi=50.0, strict_lo=True)
-    snr_lo, snr_hi = _check_range(snr_db_range, "snr_db_range")
-    p_lo, p_hi = _check_range(period_range, "period_range", lo=2.0, strict_lo=True)
-    rng = check_random_state_seed(random_state)
-
-    n_stiction = int(round(stiction_fraction * n_loops))
-    rest = n_loops - n_stiction
-    labels = ["stiction"] * n_stiction + [causes[i % len(causes)] for i in range(rest)]
-    labels = list(rng.permutation(np.array(labels, dtype=object)))
-
+def _draw_classic(
+    labels, n_samples, ts, orders, lam_lo, lam_hi, p_lo, p_hi, s_lo, s_hi, snr_lo, snr_hi,
+    slip_fraction, stiction_models, rng,
+):  # fmt: skip
+    """Loops of the classic world (sktiction 0.1): the draws of ``world="classic"``."""
     plants, controllers, valves, effects, rows = [], [], [], [], []
     for cause in labels:
         order = orders[rng.integers(len(orders))]
@@ -366,11 +233,696 @@ def make_loops(
             }
         )
 
-    res = simulate_loops(
-        plants, controllers, valves, int(n_samples), ts, effects=effects, random_state=rng
+    return plants, controllers, valves, effects, rows
+
+
+WORLDS = ("default", "classic")
+RULES = ("amigo", "chr", "zn", "cc", "simc")
+_RULES_SELF = ("amigo", "chr", "zn", "cc")
+_RULES_INT = ("amigo", "simc")
+NOISE_COLOURS = ("white", "ar1", "bandlimited")
+SETPOINT_REGIMES = ("constant", "steps", "step", "cascade")
+_REGIME_WEIGHTS = {"constant": 0.35, "steps": 0.3, "step": 0.1, "cascade": 0.25}
+RECORDING_EFFECTS = ("quantisation", "hold", "compression", "averaging")
+
+_SHARED_DEFAULTS = {
+    "stiction_fraction": 0.5,
+    "causes": ("aggressive_tuning", "external_disturbance", "none"),
+    "ts": 1.0,
+    "orders": (1, 2, 3, 4, "integrating"),
+}
+_CLASSIC_DEFAULTS = {
+    **_SHARED_DEFAULTS,
+    "lambda_range": (0.1, 1.0),
+    "stiction_models": STICTION_MODELS,
+    "S_range": (0.5, 10.0),
+    "snr_db_range": (10.0, 40.0),
+    "period_range": (20.0, 200.0),
+    "slip_fraction": 0.0,
+}
+_DEFAULT_DEFAULTS = {
+    **_SHARED_DEFAULTS,
+    "lambda_range": (0.05, 1.5),
+    "stiction_models": STICTION_MODELS + ("he",),
+    "S_range": (0.3, 8.0),
+    "snr_db_range": (0.0, 30.0),
+    "period_range": (8.0, 300.0),
+    "slip_fraction": 0.3,
+    "rules": RULES,
+    "gain_margin_range": (1.1, 2.5),
+    "noise_colours": NOISE_COLOURS,
+    "setpoint_regimes": SETPOINT_REGIMES,
+    "recording": RECORDING_EFFECTS,
+    "recording_fraction": 0.5,
+    "short_fraction": 0.25,
+    "min_length": 200,
+    "warmup": None,  # max(200, n_samples // 3)
+}
+
+
+# frequency grid of the default world's phase-crossover search (interpolated between points)
+_GRID = 240
+
+
+def _loguniform(rng, lo, hi):
+    return float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+
+
+def _family(order):
+    if order == "integrating":
+        return "integrating"
+    return {1: "first_order", 2: "second_order"}.get(order, "higher_order")
+
+
+def _pick(rng, options, p=None):
+    """One of ``options``; ``p`` are weights (renormalised)."""
+    if p is None:
+        return options[rng.integers(len(options))]
+    p = np.asarray(p, dtype=float)
+    return options[int(np.searchsorted(np.cumsum(p / p.sum()), rng.random(), side="right"))]
+
+
+def _recording_effect(name, rng):
+    """One historian recording effect by name, sizes relative to each tag's span."""
+    if name == "quantisation":
+        return [
+            SpanQuantization(_loguniform(rng, 0.005, 0.1), channels=("pv",)),
+            SpanQuantization(_loguniform(rng, 0.005, 0.1), channels=("op",)),
+        ]
+    if name == "hold":
+        return [HoldLastValue(rng.uniform(0.1, 0.55), mean_run=_loguniform(rng, 1.5, 20.0))]
+    if name == "compression":
+        return [DeadbandCompression(_loguniform(rng, 0.01, 0.15))]
+    return [IntervalAveraging(int(rng.integers(2, 11)))]
+
+
+def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
+    """Loops of the default world; returns simulator inputs and per-loop post-processing."""
+    plants, controllers, valves, effects, records, rows = [], [], [], [], [], []
+    lam_lo, lam_hi = opt["lambda_range"]
+    p_lo, p_hi = opt["period_range"]
+    s_lo, s_hi = opt["S_range"]
+    snr_lo, snr_hi = opt["snr_db_range"]
+    n_total = n_samples + n_warm
+    for cause in labels:
+        order = _pick(rng, opt["orders"])
+        integrating = order == "integrating"
+        lam_target = rng.uniform(lam_lo, lam_hi)
+        # direct and reverse acting loops alike
+        sign = -1.0 if rng.random() < 0.5 else 1.0
+        k_mag = _loguniform(rng, 0.5, 2.0)
+        plant0, _ = _plant_for(order, lam_target, 1.0, sign * k_mag)
+        rules = [r for r in opt["rules"] if r in (_RULES_INT if integrating else _RULES_SELF)]
+        rule = _pick(rng, rules)
+        kc0, ti0 = _settings(plant0, rule, 0.0)
+        # how the loop is run, drawn alike for every cause
+        kc_factor = ti_factor = 1.0
+        loop_kind = "standard"
+        if integrating and rng.random() < 0.5:
+            # averaging level control: loose P-dominant tuning, OP follows PV in phase
+            loop_kind = "averaging"
+            kc_factor, ti_factor = _loguniform(rng, 0.1, 0.5), _loguniform(rng, 2.0, 10.0)
+        elif rng.random() < opt["slip_fraction"]:
+            loop_kind = "sluggish"
+            kc_factor, ti_factor = rng.uniform(0.4, 1.0), _loguniform(rng, 3.0, 20.0)
+        w180, _ = _phase_crossover(plant0, kc0, ti0 * ti_factor, 0.0, _GRID)
+        pu = 2 * np.pi / w180  # ultimate period in units of T
+        if cause == "stiction":
+            period = pu * _loguniform(rng, 1.5, 6.0)
+        elif cause == "aggressive_tuning":
+            period = pu
+        elif cause == "external_disturbance":
+            period = pu * _loguniform(rng, 0.7, 20.0)
+        else:
+            period = pu * _loguniform(rng, 1.0, 4.0)
+        samples_per_cycle = _loguniform(rng, p_lo, p_hi)
+        # at least 4 samples per ultimate period: a loop sampled slower is not controlled
+        ts_d = min(period / samples_per_cycle, pu / 4.0)
+        samples_per_cycle = period / ts_d
+        pu_samples = pu / ts_d
+        kc, ti = _settings(plant0, rule, ts_d)
+        kc, ti = kc * kc_factor, ti * ti_factor
+        gain_factor, margin = 1.0, np.nan
+        if cause == "aggressive_tuning":
+            _, base_margin = _phase_crossover(plant0, kc, ti, ts_d, _GRID)
+            margin = _loguniform(rng, *opt["gain_margin_range"])
+            gain_factor = base_margin / margin
+        scale = ts / ts_d
+        plant, lam = _plant_for(order, lam_target, scale, sign * k_mag)
+        ctrl = PIController(kc * gain_factor, ti * scale, rule=rule)
+        K, tau, Lapp = plant.foptd()
+        g = abs(K) if not integrating else abs(K) * (plant.delay + plant.time_constant)
+        nominal = 2.0 * g  # PV change of a 2 % valve move
+
+        eff = []
+        # process noise near the loop's bandwidth and a slow random walk, every loop
+        where = "input" if rng.random() < 0.5 else "output"
+        unit = 2.0 if where == "input" else nominal
+        cutoff = min(_loguniform(rng, 0.3, 3.0) / pu_samples, 0.45)
+        eff.append(
+            ColouredLoad(
+                unit * _loguniform(rng, 0.03, 0.5), cutoff, int(rng.integers(1, 3)), where
+            )
+        )
+        if rng.random() < 0.5:
+            eff.append(RandomWalkLoad(float(nominal * rng.uniform(0.001, 0.004))))
+        drift = rng.random() < 0.3
+        if drift:
+            where = "input" if rng.random() < 0.5 else "output"
+            unit = 2.0 if where == "input" else nominal
+            eff.append(Drift(unit * _loguniform(rng, 0.3, 2.0), int(rng.integers(1, 4)), where))
+
+        S = J = np.nan
+        valve = LinearValve()
+        model = "linear"
+        if cause == "stiction":
+            model = _pick(rng, opt["stiction_models"])
+            S = _loguniform(rng, s_lo, s_hi)
+            J = S if model == "relay" else float(S * rng.uniform(0.1, 1.0))
+            if model == "relay":
+                valve = RelayValve(S)
+            elif model == "he":
+                valve = HeValve.from_sj(S, J)
+            else:
+                valve = make_valve(model, S=S, J=J)
+        disturbance = ""
+        if cause == "external_disturbance":
+            disturbance = _pick(rng, ("sine", "narrowband", "square"))
+            where = "input" if rng.random() < 0.4 else "output"
+            amp = (2.0 if where == "input" else nominal) * _loguniform(rng, 0.5, 3.0)
+            dist_period = ts * samples_per_cycle
+            if disturbance == "sine":
+                d = SinusoidalDisturbance(amp, dist_period, rng.uniform(0, 2 * np.pi), where)
+            elif disturbance == "narrowband":
+                d = NarrowbandDisturbance(amp, dist_period, _loguniform(rng, 0.01, 0.2), where)
+            else:
+                d = SquareDisturbance(
+                    amp, dist_period, lag=dist_period * rng.uniform(0.0, 0.15),
+                    phase=rng.uniform(0, 2 * np.pi), jitter=rng.uniform(0.0, 0.2), where=where,
+                )  # fmt: skip
+            eff.append(d)
+
+        regime = _pick(
+            rng, opt["setpoint_regimes"], [_REGIME_WEIGHTS[r] for r in opt["setpoint_regimes"]]
+        )
+        if regime in ("steps", "step"):
+            n_steps = int(rng.integers(1, 7)) if regime == "steps" else 1
+            lo_size, hi_size = (0.2, 2.0) if regime == "steps" else (1.0, 4.0)
+            times = n_warm + np.sort(rng.uniform(0.05, 0.9, n_steps)) * n_samples
+            sizes = nominal * np.exp(rng.uniform(np.log(lo_size), np.log(hi_size), n_steps))
+            sizes *= rng.choice([-1.0, 1.0], n_steps)
+            eff.append(SetpointSteps((ts * np.round(times)).tolist(), sizes.tolist()))
+        elif regime == "cascade":
+            phi = float(np.exp(-1.0 / (pu_samples * _loguniform(rng, 0.5, 5.0))))
+            eff.append(
+                CascadeSetpoint(nominal * _loguniform(rng, 0.1, 1.0), phi, rng.uniform(0.0, 0.5))
+            )
+
+        colour = _pick(rng, opt["noise_colours"])
+        snr = float(rng.uniform(snr_lo, snr_hi))
+        # Choudhury's model re-sticks at every OP reversal, so noise inside the loop would
+        # freeze it (Kano et al. 2004); some controllers filter PV and give a smooth OP too
+        path = "record" if model == "choudhury" or rng.random() < 0.35 else "loop"
+        if colour == "white":
+            noise = WhiteNoise(snr_db=snr, where=path)
+        elif colour == "ar1":
+            noise = ARNoise(float(rng.uniform(0.5, 0.95)), snr_db=snr, where=path)
+        else:
+            noise = BandLimitedNoise(_loguniform(rng, 0.03, 0.25), snr_db=snr, where=path)
+        eff.append(noise)
+
+        # historian recording, applied after the warm-up is cut and PV units are set
+        pv_scale = _loguniform(rng, 0.05, 20.0)
+        pv_center = rng.uniform(20.0, 80.0)
+        rec = [noise] if path == "record" else []
+        rec_names = []
+        if opt["realism"] is not None:
+            extra = list(opt["realism"].recording_effects(rng))
+            rec += extra
+            rec_names = [type(e).__name__ for e in extra]
+        elif opt["recording"] and rng.random() < opt["recording_fraction"]:
+            n_rec = 1 if rng.random() < 0.7 or len(opt["recording"]) == 1 else 2
+            picks = rng.choice(len(opt["recording"]), n_rec, replace=False)
+            for i in sorted(picks):
+                name = opt["recording"][i]
+                rec += _recording_effect(name, rng)
+                rec_names.append(name)
+        length = n_samples
+        if rng.random() < opt["short_fraction"]:
+            length = int(_loguniform(rng, min(opt["min_length"], n_samples), n_samples))
+        initial_op = rng.uniform(15.0, 85.0)
+
+        plants.append(plant)
+        controllers.append(ctrl)
+        valves.append(valve)
+        effects.append([e for e in eff if e.kind == "exogenous"])
+        records.append((rec, pv_scale, pv_center, length, initial_op))
+        rows.append(
+            {
+                "cause": cause,
+                "y": int(cause == "stiction"),
+                "plant": "integrating" if integrating else type(plant).__name__.lower(),
+                "plant_family": _family(order),
+                "order": plant.order,
+                "gain": plant.gain,
+                "action": "reverse" if plant.gain > 0 else "direct",
+                "time_constant": plant.time_constant,
+                "delay": plant.delay,
+                "apparent_time_constant": tau,
+                "apparent_delay": Lapp,
+                "lambda": lam,
+                "valve": getattr(valve, "name", "linear"),
+                "S": S,
+                "J": J,
+                "rule": rule,
+                "loop_kind": loop_kind,
+                "kc_factor": kc_factor,
+                "ti_factor": ti_factor,
+                "gain_factor": gain_factor,
+                "gain_margin": margin,
+                "Kc": ctrl.kc,
+                "Ti": ctrl.ti,
+                "ts": ts,
+                "samples_per_cycle": samples_per_cycle,
+                "samples_per_ultimate_period": pu_samples,
+                "snr_db": snr,
+                "noise_colour": colour,
+                "noise_path": path,
+                "drift": drift,
+                "disturbance": disturbance,
+                "setpoint_regime": regime,
+                "recording": "+".join(rec_names) if rec_names else "none",
+                "record_length": length,
+                "initial_op": initial_op,
+                "pv_scale": pv_scale,
+                "pv_center": pv_center,
+                "warmup": n_warm,
+                "scenario": ("slips" if loop_kind != "standard" else "limit_cycle")
+                if cause == "stiction"
+                else "",
+                "effects": ", ".join(repr(e) for e in eff + rec[1 if path == "record" else 0 :]),
+            }
+        )
+    del n_total
+    return plants, controllers, valves, effects, records, rows
+
+
+# a sticky valve must slip this often in the record, or the record holds no evidence of it
+_MIN_SLIPS = 3
+_MAX_REDRAWS = 6
+
+
+def _slips(valve, lengths):
+    """Number of times each valve starts to move within its record."""
+    moving = np.abs(np.diff(valve, axis=1)) > 1e-9
+    starts = moving.copy()
+    starts[:, 1:] &= ~moving[:, :-1]
+    starts &= np.arange(starts.shape[1])[None, :] < (np.asarray(lengths)[:, None] - 1)
+    return starts.sum(axis=1)
+
+
+def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
+    """Draw and simulate the default world; sticky loops whose valve never slips in the
+    record (a band wider than anything OP does there) are drawn again."""
+    todo = np.arange(len(labels))
+    X = valve = None
+    records, rows = [None] * len(labels), [None] * len(labels)
+    for _ in range(_MAX_REDRAWS):
+        plants, controllers, valves, effects, rec, row = _draw_default(
+            [labels[i] for i in todo], n_samples, n_warm, ts, opt, rng
+        )
+        res = simulate_loops(
+            plants, controllers, valves, n_samples + n_warm, ts, effects=effects,
+            initial_op=[r[4] for r in rec], random_state=rng,
+        )  # fmt: skip
+        if X is None:
+            X, valve = res.X, res.valve
+        else:
+            X[todo], valve[todo] = res.X, res.valve
+        for k, i in enumerate(todo):
+            records[i], rows[i] = rec[k], row[k]
+        slips = _slips(valve[todo, n_warm:], [r[3] for r in rec])
+        sticky = np.array([labels[i] == "stiction" for i in todo])
+        todo = todo[sticky & (slips < _MIN_SLIPS)]
+        if len(todo) == 0:
+            break
+    return _finish_default(X, records, n_warm, ts, rng), records, rows
+
+
+def _finish_default(X, records, n_warm, ts, rng):
+    """Cut the warm-up, set PV units, apply recording effects and record lengths."""
+    X = np.ascontiguousarray(X[:, n_warm:, :])
+    scale = np.array([r[1] for r in records])[:, None]
+    center = np.array([r[2] for r in records])[:, None]
+    # a linear plant's PV can be relabelled exactly: other units, other level
+    for c in (0, 2):
+        X[:, :, c] -= 50.0 - center
+        X[:, :, c] *= scale
+    for j, (rec, _, _, length, _) in enumerate(records):
+        if rec:
+            sig = {"pv": X[j, :, 0].copy(), "op": X[j, :, 1].copy(), "sp": X[j, :, 2].copy()}
+            for eff in rec:
+                sig = eff.record(sig, ts, rng)
+            for c, key in enumerate(CHANNELS):
+                X[j, :, c] = sig[key]
+        X[j, length:, :] = np.nan
+    return X
+
+
+def _check_subset(values, allowed, name):
+    values = tuple(values)
+    bad = [v for v in values if v not in allowed]
+    if bad or not values:
+        raise ValueError(f"{name} must be a non-empty subset of {allowed}; got {values!r}.")
+    return values
+
+
+@single_blas_thread
+def make_loops(
+    n_loops=100,
+    n_samples=2000,
+    *,
+    world="default",
+    stiction_fraction=None,
+    causes=None,
+    ts=None,
+    lambda_range=None,
+    orders=None,
+    stiction_models=None,
+    S_range=None,
+    snr_db_range=None,
+    period_range=None,
+    slip_fraction=None,
+    rules=None,
+    gain_margin_range=None,
+    noise_colours=None,
+    setpoint_regimes=None,
+    recording=None,
+    recording_fraction=None,
+    short_fraction=None,
+    min_length=None,
+    warmup=None,
+    realism=None,
+    random_state=None,
+    return_meta=False,
+):
+    """Generate simulated control loops, oscillating because of stiction or not.
+
+    Each loop is a closed loop (plant, PI controller, valve) simulated with
+    :func:`sktiction.simulation.simulate_loops`. Two worlds:
+
+    * ``world="default"``: loops as plant historians record them, every nuisance
+      drawn alike for sticky and healthy loops so that no cause can be read from
+      it (see *Default world* below).
+    * ``world="classic"``: the clean world of sktiction 0.1 (see *Classic world*);
+      for the same seed and arguments it reproduces that version's loops exactly.
+
+    Arguments left at ``None`` take the world's default (listed with each
+    parameter), then any value from ``realism.overrides``.
+
+    **Causes** (both worlds): ``"stiction"`` (``y = 1``), ``"aggressive_tuning"``,
+    ``"external_disturbance"`` and ``"none"`` (``y = 0``).
+
+    **Default world.** Every loop runs 50 % direct, 50 % reverse acting
+    (plant gain sign), from an OP of 15-85 %, with PV in its own units (scale
+    0.05-20, level 20-80 scaled) and is recorded after a warm-up of ``warmup``
+    samples so that no loop starts from rest (the start-up transient is the
+    same for all causes). Drawn alike for every cause:
+
+    - tuning rule (AMIGO, CHR, Ziegler-Nichols, Cohen-Coon; AMIGO or SIMC for
+      integrating plants), and how the loop is run: averaging level control for
+      half of the integrating plants (``Kc`` x 0.1-0.5, ``Ti`` x 2-10: OP follows
+      PV in phase), sluggish integral action for a share ``slip_fraction`` of the
+      others (``Ti`` x 3-20), standard otherwise;
+    - process noise near the loop's bandwidth (band-limited at the plant input
+      or output: with a lightly damped loop this gives irregular,
+      amplitude-modulated cycles), a random-walk load in half, a slow
+      piecewise-linear drift in 30 % (the loop rejects it, OP ramps);
+    - setpoint regime: constant (35 %), 1-6 operator steps (30 %), one large
+      step (10 %), cascade setpoint moving on every sample (25 %);
+    - measurement noise: white, AR(1) or band-limited, SNR uniform in
+      ``snr_db_range`` dB, seen by the controller or (35 %, and always with
+      Choudhury's valve, which noise in the loop would freeze) on the record
+      only, as behind a PV filter;
+    - historian recording in a share ``recording_fraction``: one or two of
+      ``recording`` (quantisation, hold-last-value, compression, interval
+      averaging);
+    - record length: a share ``short_fraction`` of the loops is cut to a
+      log-uniform length between ``min_length`` and ``n_samples`` (NaN-padded).
+
+    Per cause: stiction with a relay, Choudhury, Kano or He et al. (2007)
+    valve, ``S`` log-uniform in ``S_range`` (small bands included), ``J / S``
+    0.1-1; limit cycles, slips at setpoint moves, intermittent stick-slip in
+    noise and long stuck stretches while OP ramps all arise from the draws
+    above. Aggressive tuning: ``Kc`` set so that the gain margin is log-uniform
+    in ``gain_margin_range`` (noise-driven, lightly damped). External
+    disturbance: sine, narrow-band (wandering amplitude and phase) or filtered
+    square wave at the plant input or output, with a period of 0.7-20 times
+    the loop's ultimate period (slow ones are rejected: OP carries the cycle).
+
+    **Classic world.** Starts at steady state with PV = SP = 50 and OP = 50 %.
+    Stiction: relay, Choudhury or Kano valve, ``S`` uniform in ``S_range``,
+    ``J / S`` uniform in 0.2-1, good tuning (AMIGO or CHR; AMIGO or SIMC for
+    integrating plants), started by a setpoint step of 0.3-1 times ``S``; a
+    share ``slip_fraction`` has sluggish integral action (``Ti`` 5-20 times the
+    rule's) and 1-4 setpoint moves instead (scenario ``"slips"``). Aggressive
+    tuning: AMIGO ``Kc`` raised so the gain margin is 1.05-1.3, started by a
+    setpoint step. External disturbance: sinusoidal load at the plant output.
+    None: noise, random-walk load and, for half of them, setpoint steps. White
+    or AR(1) noise with SNR in ``snr_db_range`` (Choudhury loops on the record
+    only), a quarter direct acting.
+
+    Both worlds: plants are n-th order lags ``K e^{-Ls} / (T s + 1)^n`` or
+    integrating plants ``K e^{-Ls} / (s (T s + 1))``, ``|K|`` log-uniform in
+    0.5-2; the delay ``L`` makes the apparent ``lambda = (h + L) / tau``
+    (Singhal & Salsbury 2005, Eq. 6) uniform in ``lambda_range`` (higher
+    orders whose own lambda exceeds it get ``L = 0.02 T``; meta records the
+    actual value; NaN for integrating plants, where ``L = lambda T``). The
+    plant time constant is scaled so that the expected oscillation period
+    spans a number of samples drawn log-uniformly from ``period_range``. SNR is
+    relative to the PV of a noise-free pilot run
+    (:mod:`sktiction.simulation.effects`).
+
+    Parameters
+    ----------
+    n_loops : int, default=100
+        Number of loops (>= 1).
+    n_samples : int, default=2000
+        Samples per loop (>= 2).
+    world : {"default", "classic"}, default="default"
+        Which simulated world (above).
+    stiction_fraction : float, default 0.5
+        Share of stiction loops (0-1), rounded to a whole number of loops; the
+        rest is split evenly over ``causes``.
+    causes : tuple of str, default ("aggressive_tuning", "external_disturbance", "none")
+        Non-stiction causes to draw from.
+    ts : float, default 1.0
+        Sample time (> 0), also the time unit of the meta data.
+    lambda_range : tuple of float, default (0.05, 1.5); classic (0.1, 1.0)
+        Range of ``lambda`` (0 < low <= high).
+    orders : tuple, default (1, 2, 3, 4, "integrating")
+        Plant orders (integers 1-10) and/or ``"integrating"``, drawn uniformly.
+    stiction_models : tuple of str, default ("relay", "choudhury", "kano", "he")
+        Stiction valve models drawn uniformly for stiction loops (classic: no "he").
+    S_range : tuple of float, default (0.3, 8.0); classic (0.5, 10.0)
+        Stiction band ``S`` (relay ``d``) in % of span (0 < low <= high <= 50).
+    snr_db_range : tuple of float, default (0.0, 30.0); classic (10.0, 40.0)
+        Signal-to-noise ratio of the measurement noise in dB.
+    period_range : tuple of float, default (8.0, 300.0); classic (20.0, 200.0)
+        Target oscillation period in samples (2 < low <= high).
+    slip_fraction : float, default 0.3; classic 0.0
+        Default world: share (0-1) of loops of every cause with sluggish integral
+        action (sticky ones among them slip and stay stuck while OP ramps).
+        Classic world: share of stiction loops in scenario ``"slips"``.
+    rules : tuple of str, default ("amigo", "chr", "zn", "cc", "simc")
+        Default world only: tuning rules to draw from (``"simc"`` is for
+        integrating plants only, ``"chr"``, ``"zn"``, ``"cc"`` for self-regulating
+        ones; each plant type needs one).
+    gain_margin_range : tuple of float, default (1.1, 2.5)
+        Default world only: gain margin of aggressively tuned loops (> 1).
+    noise_colours : tuple of str, default ("white", "ar1", "bandlimited")
+        Default world only: measurement noise colours to draw from.
+    setpoint_regimes : tuple of str, default ("constant", "steps", "step", "cascade")
+        Default world only: setpoint regimes to draw from (weights above).
+    recording : tuple of str, default ("quantisation", "hold", "compression", "averaging")
+        Default world only: historian effects to draw from (may be empty), sizes
+        relative to each tag's span (:mod:`sktiction.simulation.historian`):
+        PV and OP on a grid of 0.5-10 %, rows frozen together on 10-55 % of the
+        samples, per-tag exception compression with a band of 1-15 %, 2-10
+        sample interval averages.
+    recording_fraction : float, default 0.5
+        Default world only: share of loops with historian recording effects.
+    short_fraction : float, default 0.25
+        Default world only: share of loops with a shortened record.
+    min_length : int, default 200
+        Default world only: shortest record (>= 20).
+    warmup : int or None, default None
+        Default world only: samples simulated and dropped before the record;
+        ``None`` means ``max(200, n_samples // 3)``.
+    realism : object or None, default=None
+        Default world only: a calibrated world from
+        :func:`sktiction.realism.calibrate`: a mapping ``realism.overrides`` of
+        keyword arguments of this function (explicit arguments win) and a method
+        ``realism.recording_effects(rng)`` returning the recording effects of one
+        loop (replacing the draw from ``recording``).
+    random_state : None, int or numpy.random.Generator, default=None
+        Seed for reproducible output.
+    return_meta : bool, default=False
+        Also return a DataFrame describing each loop.
+
+    Returns
+    -------
+    X : ndarray of shape (n_loops, n_samples, 3)
+        Channels PV, OP (%), SP; shortened records NaN-padded at the end.
+    y : ndarray of shape (n_loops,), dtype int
+        1 when stiction causes the oscillation, else 0.
+    meta : pandas.DataFrame, only if ``return_meta``
+        One row per loop: ``cause``, ``y``, ``plant``, ``order``, ``gain``,
+        ``time_constant``, ``delay``, ``apparent_time_constant``,
+        ``apparent_delay``, ``lambda``, ``valve``, ``S``, ``J``, ``rule``,
+        ``gain_factor``, ``Kc``, ``Ti``, ``ts``, ``samples_per_cycle``,
+        ``snr_db``, ``scenario``, ``effects``; the default world adds
+        ``plant_family``, ``action``, ``loop_kind``, ``kc_factor``, ``ti_factor``,
+        ``gain_margin``, ``samples_per_ultimate_period``, ``noise_colour``,
+        ``noise_path``, ``drift``, ``disturbance``, ``setpoint_regime``,
+        ``recording``, ``record_length``, ``initial_op``, ``pv_scale``,
+        ``pv_center``, ``warmup``.
+
+    Examples
+    --------
+    >>> from sktiction.datasets import make_loops
+    >>> X, y, meta = make_loops(8, 300, random_state=0, return_meta=True)
+    >>> X.shape, int(y.sum())
+    ((8, 300, 3), 4)
+    >>> sorted(meta["cause"].unique())[:2]
+    ['aggressive_tuning', 'external_disturbance']
+    >>> Xc, yc = make_loops(8, 300, world="classic", random_state=0)
+    >>> float(Xc[0, 0, 2])  # the classic world starts at SP = 50
+    50.0
+    """
+    if world not in WORLDS:
+        raise ValueError(f"world must be one of {WORLDS}; got {world!r}.")
+    if not isinstance(n_loops, numbers.Integral) or n_loops < 1:
+        raise ValueError(f"n_loops must be an integer >= 1; got {n_loops!r}.")
+    if not isinstance(n_samples, numbers.Integral) or n_samples < 2:
+        raise ValueError(f"n_samples must be an integer >= 2; got {n_samples!r}.")
+    given = {
+        "stiction_fraction": stiction_fraction, "causes": causes, "ts": ts,
+        "lambda_range": lambda_range, "orders": orders, "stiction_models": stiction_models,
+        "S_range": S_range, "snr_db_range": snr_db_range, "period_range": period_range,
+        "slip_fraction": slip_fraction, "rules": rules, "gain_margin_range": gain_margin_range,
+        "noise_colours": noise_colours, "setpoint_regimes": setpoint_regimes,
+        "recording": recording, "recording_fraction": recording_fraction,
+        "short_fraction": short_fraction, "min_length": min_length, "warmup": warmup,
+    }  # fmt: skip
+    defaults = _DEFAULT_DEFAULTS if world == "default" else _CLASSIC_DEFAULTS
+    if world == "classic":
+        extra = [k for k, v in given.items() if v is not None and k not in defaults]
+        if realism is not None:
+            extra.append("realism")
+        if extra:
+            raise ValueError(f"{', '.join(extra)} only apply to world='default'.")
+    overrides = {}
+    if realism is not None:
+        overrides = dict(getattr(realism, "overrides", {}) or {})
+        unknown = sorted(set(overrides) - set(defaults))
+        if unknown:
+            raise ValueError(
+                f"realism.overrides has keys make_loops does not take: {unknown}; "
+                f"allowed: {sorted(defaults)}."
+            )
+        if not callable(getattr(realism, "recording_effects", None)):
+            raise ValueError("realism must have a method recording_effects(rng).")
+    opt = {
+        k: (given[k] if given[k] is not None else overrides.get(k, defaults[k])) for k in defaults
+    }
+
+    stiction_fraction = check_positive(
+        opt["stiction_fraction"], "stiction_fraction", strict=False, upper=1.0
     )
-    X = res.X
+    causes = tuple(opt["causes"])
+    bad = [c for c in causes if c not in CAUSES[1:]]
+    if bad or not causes:
+        raise ValueError(f"causes must be a non-empty subset of {CAUSES[1:]}; got {causes!r}.")
+    ts = check_positive(opt["ts"], "ts")
+    lam_lo, lam_hi = _check_range(opt["lambda_range"], "lambda_range", lo=0.0, strict_lo=True)
+    orders = tuple(opt["orders"])
+    for o in orders:
+        if o != "integrating" and not (isinstance(o, numbers.Integral) and 1 <= o <= 10):
+            raise ValueError(f"orders must hold integers 1-10 or 'integrating'; got {o!r}.")
+    if not orders:
+        raise ValueError("orders must not be empty (integers 1-10 or 'integrating').")
+    models = STICTION_MODELS + ("he",) if world == "default" else STICTION_MODELS
+    stiction_models = tuple(opt["stiction_models"])
+    for m in stiction_models:
+        if m not in models:
+            raise ValueError(f"stiction_models must be among {models}; got {m!r}.")
+    if not stiction_models:
+        raise ValueError(f"stiction_models must be a non-empty subset of {models}.")
+    slip_fraction = check_positive(opt["slip_fraction"], "slip_fraction", strict=False, upper=1.0)
+    s_lo, s_hi = _check_range(opt["S_range"], "S_range", lo=0.0, hi=50.0, strict_lo=True)
+    snr_lo, snr_hi = _check_range(opt["snr_db_range"], "snr_db_range")
+    p_lo, p_hi = _check_range(opt["period_range"], "period_range", lo=2.0, strict_lo=True)
+    rng = check_random_state_seed(random_state)
+
+    n_stiction = int(round(stiction_fraction * n_loops))
+    rest = n_loops - n_stiction
+    labels = ["stiction"] * n_stiction + [causes[i % len(causes)] for i in range(rest)]
+    labels = list(rng.permutation(np.array(labels, dtype=object)))
+
+    if world == "classic":
+        plants, controllers, valves, effects, rows = _draw_classic(
+            labels, n_samples, ts, orders, lam_lo, lam_hi, p_lo, p_hi, s_lo, s_hi,
+            snr_lo, snr_hi, slip_fraction, stiction_models, rng,
+        )  # fmt: skip
+        res = simulate_loops(
+            plants, controllers, valves, int(n_samples), ts, effects=effects, random_state=rng
+        )
+        X = res.X
+    else:
+        opt = _check_default_options(opt, orders, n_samples, realism)
+        opt.update(
+            lambda_range=(lam_lo, lam_hi), period_range=(p_lo, p_hi), S_range=(s_lo, s_hi),
+            snr_db_range=(snr_lo, snr_hi), slip_fraction=slip_fraction, orders=orders,
+            stiction_models=stiction_models,
+        )  # fmt: skip
+        n_warm = opt["warmup"]
+        X, records, rows = _simulate_default(labels, int(n_samples), n_warm, ts, opt, rng)
     y = np.array([r["y"] for r in rows], dtype=int)
     if return_meta:
         return X, y, pd.DataFrame(rows)
     return X, y
+
+
+def _check_default_options(opt, orders, n_samples, realism):
+    opt = dict(opt)
+    opt["rules"] = _check_subset(opt["rules"], RULES, "rules")
+    for integrating, own in ((False, _RULES_SELF), (True, _RULES_INT)):
+        has_type = any((o == "integrating") == integrating for o in orders)
+        if has_type and not set(opt["rules"]) & set(own):
+            kind = "integrating" if integrating else "self-regulating"
+            raise ValueError(
+                f"rules must include one of {own} for {kind} plants; got {opt['rules']!r}."
+            )
+    lo, hi = _check_range(opt["gain_margin_range"], "gain_margin_range", lo=1.0, strict_lo=True)
+    opt["gain_margin_range"] = (lo, hi)
+    opt["noise_colours"] = _check_subset(opt["noise_colours"], NOISE_COLOURS, "noise_colours")
+    opt["setpoint_regimes"] = _check_subset(
+        opt["setpoint_regimes"], SETPOINT_REGIMES, "setpoint_regimes"
+    )
+    rec = tuple(opt["recording"])
+    bad = [r for r in rec if r not in RECORDING_EFFECTS]
+    if bad:
+        raise ValueError(f"recording must be a subset of {RECORDING_EFFECTS}; got {rec!r}.")
+    opt["recording"] = rec
+    for name in ("recording_fraction", "short_fraction"):
+        opt[name] = check_positive(opt[name], name, strict=False, upper=1.0)
+    if not isinstance(opt["min_length"], numbers.Integral) or opt["min_length"] < 20:
+        raise ValueError(f"min_length must be an integer >= 20; got {opt['min_length']!r}.")
+    if opt["warmup"] is None:
+        opt["warmup"] = max(200, n_samples // 3)
+    if not isinstance(opt["warmup"], numbers.Integral) or opt["warmup"] < 0:
+        raise ValueError(f"warmup must be an integer >= 0; got {opt['warmup']!r}.")
+    opt["warmup"] = int(opt["warmup"])
+    opt["realism"] = realism
+    return opt

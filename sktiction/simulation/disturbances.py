@@ -26,7 +26,7 @@ their arrays are drawn before the compiled loop runs.
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import butter, lfilter
+from scipy.signal import lfilter
 
 from .._validation import check_positive
 from .effects import Effect, WhiteNoise
@@ -48,22 +48,24 @@ def _check_where(where):
 
 
 def _lowpass_unit(n_samples, cutoff, order, rng):
-    """Unit-variance Butterworth low-pass noise; ``cutoff`` in cycles per sample (< 0.5).
+    """Unit-variance low-pass noise: white noise through ``order`` equal first-order lags.
 
-    A burn-in of a few filter time constants is drawn and dropped so that the
-    first sample is already stationary.
+    Each lag has its corner frequency at about ``cutoff`` cycles per sample (< 0.5). A burn-in of
+    a few time constants is drawn and dropped so that the first sample is stationary.
     """
-    b, a = butter(order, 2.0 * cutoff)
-    burn = int(min(4.0 / cutoff, 20_000))
+    a = np.exp(-2.0 * np.pi * cutoff)
+    den = np.poly(np.full(order, a))  # (1 - a z^-1)^order
+    num = [(1.0 - a) ** order]
+    burn = int(min(5.0 * order / (1.0 - a), 20_000))
     e = rng.standard_normal(n_samples + burn)
-    out = lfilter(b, a, e)[burn:]
-    # exact stationary variance of the filter: sum of its squared impulse response
-    h = lfilter(b, a, np.r_[1.0, np.zeros(burn + 256)])
+    out = lfilter(num, den, e)[burn:]
+    # stationary variance: sum of the squared impulse response
+    h = lfilter(num, den, np.r_[1.0, np.zeros(burn + 64)])
     return out / np.sqrt(np.sum(h * h))
 
 
 class BandLimitedNoise(WhiteNoise):
-    """Measurement noise through a Butterworth low-pass filter.
+    """Measurement noise through a low-pass filter (``order`` equal first-order lags).
 
     Parameters
     ----------
@@ -219,7 +221,7 @@ class SquareDisturbance(Effect):
 
     def signals(self, n_samples, ts, rng):
         half = 0.5 * self.period / ts  # samples per half period
-        n_half = int(n_samples / half) + 3
+        n_half = int(1.5 * n_samples / half) + 10
         lengths = np.full(n_half, half)
         if self.jitter > 0:
             lengths = lengths * np.clip(1 + self.jitter * rng.standard_normal(n_half), 0.2, None)
