@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from sktiction.datasets._measured import read_loops
+from sktiction.datasets import read_loop_file, read_loops
 
 HEADER = (
     "PROCESSDATA\t{tag} Data\tyyyy-MM-dd HH:mm:ss\r\n"
@@ -112,29 +112,46 @@ def test_directory_unequal_lengths(tmp_path):
 
 
 @pytest.mark.parametrize(
-    ("name", "text", "message"),
+    ("name", "text", "message", "strict"),
     [
-        ("empty.csv", "", "empty"),
-        ("header_only.csv", "t,pv,op\n", "no data rows"),
-        ("text.csv", "t,pv,op\n0,1,1\n1,bad,2\n", "column 'pv' is not numeric: row 2"),
-        ("unsorted.csv", "t,pv,op\n0,1,1\n2,2,2\n1,3,3\n", "not increasing"),
-        ("dup.csv", "t,pv,op\n0,1,1\n1,2,2\n1,3,3\n", "duplicated"),
-        ("nopv.csv", "t,op,sp\n0,1,1\n1,2,2\n", "no PV column"),
-        ("twopv.csv", "t,pv,y,op\n0,1,1,1\n1,2,2,2\n", "several columns could be PV"),
-        ("nonames.csv", "0,1,2\n1,2,3\n", "no column names"),
-        ("badtime.csv", "time,pv\nmonday,1\ntuesday,2\n", "not times"),
+        ("empty.csv", "", "empty", False),
+        ("header_only.csv", "t,pv,op\n", "no data rows", False),
+        ("nopv.csv", "t,op,sp\n0,1,1\n1,2,2\n", "no PV column", False),
+        ("twopv.csv", "t,pv,y,op\n0,1,1,1\n1,2,2,2\n", "several columns could be PV", False),
+        ("nonames.csv", "0,1,2\n1,2,3\n", "no column names", False),
+        ("badtime.csv", "time,pv\nmonday,1\ntuesday,2\n", "not times", False),
+        ("allbad.csv", "t,pv,op\n0,x,1\n1,y,2\n", "PV column 'pv' holds no numbers", False),
+        # Repaired by default since issue 8; strict=True keeps rejecting them.
+        ("text.csv", "t,pv,op\n0,1,1\n1,bad,2\n", "column 'pv' is not numeric: row 2", True),
+        ("unsorted.csv", "t,pv,op\n0,1,1\n2,2,2\n1,3,3\n", "not increasing", True),
+        ("dup.csv", "t,pv,op\n0,1,1\n1,2,2\n1,3,3\n", "duplicated", True),
     ],
 )
-def test_bad_input(tmp_path, name, text, message):
+def test_bad_input(tmp_path, name, text, message, strict):
     f = write(tmp_path / name, text)
     with pytest.raises(ValueError, match=f"{name}: .*{message}"):
-        read_loops(f)
-    data = read_loops([f], on_error="skip")
-    assert data.X.shape == (1, 1, 3) and np.isnan(data.X).all()
+        read_loops(f, strict=strict)
+    data = read_loops([f], on_error="skip", strict=strict)
+    assert data.X.shape[0] == 1 and np.isnan(data.X).all()
     assert (
         data.meta.loc[0, "status"] == "error"
         and message.split(":")[0] in data.meta.loc[0, "reason"]
     )
+    one = read_loop_file(f, strict=strict)  # the per-file reader never raises
+    assert one.X.shape[0] == len(one.meta) == 1 and one.meta.loc[0, "status"] == "error"
+
+
+def test_repairs_by_default(tmp_path):
+    # Three files strict mode rejects above, read with a note instead.
+    text = read_loops(write(tmp_path / "text.csv", "t,pv,op\n0,1,1\n1,bad,2\n"))
+    np.testing.assert_array_equal(text.X[0, :, 0], [1, np.nan])
+    assert text.meta.loc[0, "reason"] == "1 text values in PV read as NaN ('bad' x1)"
+    uns = read_loops(write(tmp_path / "uns.csv", "t,pv,op\n0,1,1\n2,2,2\n1,3,3\n"))
+    np.testing.assert_array_equal(uns.X[0, :, 0], [1, 3, 2])
+    assert uns.meta.loc[0, "reason"] == "rows not in time order (1 steps back): sorted"
+    dup = read_loops(write(tmp_path / "dup.csv", "t,pv,op\n0,1,1\n1,2,2\n1,3,3\n2,4,4\n"))
+    np.testing.assert_array_equal(dup.X[0, :, 0], [1, 2, 4])  # the first of the pair kept
+    assert dup.meta.loc[0, "reason"] == "1 duplicated timestamps: kept the first row of each"
 
 
 def test_bad_historian_rows(tmp_path):
@@ -144,12 +161,16 @@ def test_bad_historian_rows(tmp_path):
     ]
     f = write(tmp_path / "h.txt", historian_text(rows=rows))
     with pytest.raises(ValueError, match="h.txt: timestamps are not increasing"):
-        read_loops(f)
-    g = write(
-        tmp_path / "g.txt", historian_text(rows=[("2024-10-17 21:55:00", "9", "x", "1", "1")])
-    )
+        read_loops(f, strict=True)
+    assert read_loops(f).meta.loc[0, "start"] == pd.Timestamp("2024-10-17 21:55")
+    rows = [
+        ("2024-10-17 21:55:00", "9", "x", "1", "1"),
+        ("2024-10-17 21:55:10", "9", "2", "1", "0"),
+    ]
+    g = write(tmp_path / "g.txt", historian_text(rows=rows))
     with pytest.raises(ValueError, match=r"g.txt: column '2111FIC10201.PV' is not numeric"):
-        read_loops(g)
+        read_loops(g, strict=True)
+    assert "1 text values in PV read as NaN ('x' x1)" in read_loops(g).meta.loc[0, "reason"]
     with pytest.raises(ValueError, match="missing.txt: file does not exist"):
         read_loops(tmp_path / "missing.txt")
 

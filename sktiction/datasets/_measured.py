@@ -1,30 +1,40 @@
-"""Read measured control loops (historian exports and plain CSV files) into loop arrays.
+"""Read measured control loops (historian exports, CSV, Excel, Parquet) into loop arrays.
 
-Two layouts are recognised from the first line of a file:
+Three layers:
 
-* **historian export** (first line starts with ``PROCESSDATA``): five header lines, then
-  tab-separated rows ``timestamp, <tag>.MV, <tag>.PV, <tag>.SV, <tag>.MODE, flags...``.
-  Line 1 holds the time format, line 2 the start time and the declared row count, line 3
-  the column names, line 4 descriptions (UTF-8, GBK tolerated), line 5 grid settings.
-* **delimited text** (anything else): one header row of column names, then rows separated
-  by ``,``, ``;`` or tabs (whichever the header line uses most).
+* :func:`list_loop_files` lists every file under some paths, readable or not, with a reason
+  for each one that is not read.
+* :func:`read_loop_file` reads one file into ``(n_loops_in_file, n_samples, 3)``: no more
+  memory than that file needs, and never an exception for a bad file (a row with
+  ``status != "ok"`` and a reason instead).
+* :func:`read_loops` reads many files into one NaN-padded array (convenient for small sets;
+  a scan of many or long files should call :func:`read_loop_file` per file).
 
-Columns are found by name, case-insensitively, also after a ``<tag>.`` or ``<tag>_`` prefix.
+File layouts are in :mod:`sktiction.datasets._readers`, time columns in
+:mod:`sktiction.datasets._timestamps`. Columns are found by name, case-insensitively, also
+after a ``<tag>.``, ``<tag>_`` or ``<tag> `` prefix; a file with several prefixes
+(``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix.
 """
 
 from __future__ import annotations
 
-import codecs
+import os
 import re
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 from sklearn.utils import Bunch
 
-from .._validation import CHANNELS, check_positive
+from .._validation import CHANNELS, STATUS_OK, check_positive
+from ._readers import FileError, file_kind, open_table
+from ._timestamps import TIME_UNITS, TimeError, parse_times, regularise
 
-__all__ = ["read_loops"]
+__all__ = ["list_loop_files", "read_loop_file", "read_loops"]
+
+STATUS_ERROR = "error"
+STATUS_UNSUPPORTED = "unsupported"
 
 # Column-name aliases, compared lower-case. Order within a tuple does not matter.
 _ALIASES = {
@@ -34,8 +44,12 @@ _ALIASES = {
     "time": ("time", "t", "t_s", "time_s", "timestamp", "datetime", "date_time", "date"),
     "mode": ("mode", "aut", "auto"),
 }
-_FILE_SUFFIXES = (".txt", ".csv", ".tsv")
-_INDEX_NAMES = ("index.csv", "index.txt")
+_KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}
+_LOOP_KEYS = ("pv", "op", "sp", "mode")
+# Text in a MODE column: automatic (and cascade) count as closed loop.
+_MODE_TEXT = {"auto": 1.0, "aut": 1.0, "cas": 1.0, "cascade": 1.0, "man": 0.0, "manual": 0.0}
+# Text a historian writes for a missing value; read as NaN without being counted as status.
+_MISSING_TEXT = ("", "nan", "na", "n/a", "null", "none")
 # ISA controller letters inside a tag: first letter = measured variable, then optional
 # D (differential), I/R (indicating/recording), C (controller), not glued to other letters.
 _ISA = re.compile(r"(?<![A-Z])(PD|[FLPT])(IR|I|R)?C(?![A-Z])")
@@ -46,8 +60,8 @@ _META_COLUMNS = [
 ]  # fmt: skip
 
 
-class _FileError(ValueError):
-    """A problem with one file; the message is prefixed with the file name by the caller."""
+class _Unsupported(FileError):
+    """The file type is not read at all (as opposed to a readable type holding bad data)."""
 
 
 def _loop_type(tag):
@@ -58,316 +72,495 @@ def _loop_type(tag):
     return m.group(0), _LOOP_TYPES[m.group(1)]
 
 
-def _expand_paths(paths):
-    """List of files from one path, a directory or an iterable of paths."""
-    if isinstance(paths, str | Path):
-        paths = [paths]
-    out = []
-    for p in paths:
-        p = Path(p)
-        if p.is_dir():
-            # index.csv files describe a folder (labels); they are not loops.
-            out.extend(
-                f
-                for f in sorted(p.iterdir())
-                if f.is_file()
-                and f.suffix.lower() in _FILE_SUFFIXES
-                and f.name.lower() not in _INDEX_NAMES
-            )
-        else:
-            out.append(p)
-    if not out:
-        raise ValueError(f"paths holds no files to read: {paths!r}.")
-    return out
+# ---- listing -------------------------------------------------------------------------------
 
 
-def _decode(raw):
-    """Decode the first bytes of a file; return (text, encoding).
-
-    UTF-8 first, then GB18030 (a superset of GBK, for Chinese descriptions), then latin-1.
-    An incremental decoder tolerates a character cut in two by the read size.
-    """
-    for enc in ("utf-8-sig", "gb18030"):
-        try:
-            return codecs.getincrementaldecoder(enc)().decode(raw, final=False), enc
-        except UnicodeDecodeError:
-            continue
-    return raw.decode("latin-1"), "latin-1"
-
-
-def _time_format(java_format):
-    """Translate a Java-style date pattern (``yyyy-MM-dd HH:mm:ss``) to strftime."""
-    fmt = java_format
-    for a, b in (("yyyy", "%Y"), ("MM", "%m"), ("dd", "%d"), ("HH", "%H"), ("mm", "%M")):
-        fmt = fmt.replace(a, b)
-    fmt = fmt.replace("ss", "%S").replace(".SSS", ".%f")
-    return fmt if "%" in fmt else None
-
-
-def _match_columns(columns, channels):
-    """Map channel -> column name, from ``channels`` overrides and the alias table."""
-    mapping = {}
-    channels = dict(channels or {})
-    for key, col in channels.items():
-        if col not in columns:
-            raise _FileError(f"column {col!r} given in channels[{key!r}] is not in {columns}")
-        mapping[key] = col
-    for key, aliases in _ALIASES.items():
-        if key in mapping:
-            continue
-        # Full name first, then the part after a '<tag>.' or '<tag>_' prefix.
-        for strip in (lambda c: c, lambda c: c.rsplit(".", 1)[-1], lambda c: c.rsplit("_", 1)[-1]):
-            hits = [c for c in columns if strip(str(c).strip().lower()) in aliases]
-            hits = [c for c in hits if c not in mapping.values()]
-            if len(hits) > 1:
-                raise _FileError(
-                    f"several columns could be {key.upper()}: {hits}; choose one with "
-                    f"channels={{{key!r}: ...}}"
-                )
-            if hits:
-                mapping[key] = hits[0]
-                break
-    return mapping
-
-
-def _read_historian(path, head, encoding):
-    """Parse a ``PROCESSDATA`` historian export; return (frame, info)."""
-    lines = head.splitlines()
-    if len(lines) < 5:
-        raise _FileError("historian header is incomplete (fewer than 5 lines)")
-    first = lines[0].split("\t")
-    names = [c.strip() for c in lines[2].split("\t")]
-    if names[0].lower() != "tagname" or len(names) < 3:
-        raise _FileError(f"line 3 should start with 'tagname' and list columns; got {lines[2]!r}")
-    names[0] = "time"
-    # Line 1 names the loop ("<tag> Data"); line 3 may add a unit prefix ("LYCDU.<tag>.MV").
-    if len(first) > 1 and first[1].strip():
-        tag = first[1].strip().removesuffix(" Data").strip()
-    else:
-        tag = names[1].rsplit(".", 1)[0]
-    info = {"tag": tag, "format": "historian", "time_format": None, "declared_rows": None}
-    if len(first) > 2:
-        info["time_format"] = _time_format(first[2].strip())
-    second = lines[1].split("\t")
-    if len(second) >= 4 and second[3].strip().isdigit():
-        info["declared_rows"] = int(second[3])
-    frame = pd.read_csv(
-        path, sep="\t", skiprows=5, header=None, names=names, index_col=False,
-        dtype=str, encoding=encoding, encoding_errors="replace", skip_blank_lines=True,
-    )  # fmt: skip
-    return frame, info
-
-
-def _read_delimited(path, head, encoding):
-    """Parse a delimited text file with a header row; return (frame, info)."""
-    header = head.splitlines()[0]
-    sep = max((",", ";", "\t"), key=header.count)
-    frame = pd.read_csv(
-        path, sep=sep, dtype=str, encoding=encoding, encoding_errors="replace", index_col=False
-    )
-    frame.columns = [str(c).strip() for c in frame.columns]
-    if all(_is_number(c) for c in frame.columns):
-        raise _FileError("first line has no column names (it holds numbers)")
-    return frame, {"tag": path.stem, "format": "csv", "time_format": None, "declared_rows": None}
-
-
-def _is_number(text):
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
-def _to_numeric(frame, col):
-    """Column as float; NaN for blanks and standard NA tokens, error for other text."""
-    values = pd.to_numeric(frame[col], errors="coerce")
-    raw = frame[col]
-    bad = (
-        values.isna() & raw.notna() & ~raw.str.strip().str.lower().isin(["", "nan", "na", "null"])
-    )
-    if bad.any():
-        i = int(np.flatnonzero(bad.to_numpy())[0])
-        raise _FileError(
-            f"column {col!r} is not numeric: row {i + 1} of the data holds {raw.iloc[i]!r} "
-            f"({int(bad.sum())} such values)"
-        )
-    return values.to_numpy(dtype=float)
-
-
-def _seconds(frame, col, time_format):
-    """Time column as seconds from the first row, plus the start timestamp (or NaT)."""
-    raw = frame[col]
-    if raw.isna().any():
-        raise _FileError(f"time column {col!r} has {int(raw.isna().sum())} empty values")
-    numeric = pd.to_numeric(raw, errors="coerce")
-    if numeric.notna().all():
-        return numeric.to_numpy(dtype=float), pd.NaT
-    # The header's format first, then ISO 8601 (fast), then per-value parsing (slow).
-    stamps = None
-    for fmt in (time_format, "ISO8601", "mixed"):
-        if fmt is None:
-            continue
-        try:
-            stamps = pd.to_datetime(raw.str.strip(), format=fmt)
-            break
-        except (ValueError, TypeError) as exc:
-            error = exc
-    if stamps is None:
-        raise _FileError(f"time column {col!r} holds values that are not times: {error}")
-    t = (stamps - stamps.iloc[0]).dt.total_seconds().to_numpy()
-    return t, stamps.iloc[0]
-
-
-def _read_one(path, ts, channels):
-    """Read one file into a standard frame (time, pv, op, sp, mode, ...) and a meta dict."""
-    if not path.is_file():
-        raise _FileError("file does not exist")
-    with open(path, "rb") as fh:
-        raw = fh.read(8192)
-    if not raw.strip():
-        raise _FileError("file is empty")
-    head, encoding = _decode(raw)
-    try:
-        if head.lstrip("\ufeff").startswith("PROCESSDATA"):
-            frame, info = _read_historian(path, head, encoding)
-        else:
-            frame, info = _read_delimited(path, head, encoding)
-    except pd.errors.EmptyDataError as exc:
-        raise _FileError("file has no data rows") from exc
-    except pd.errors.ParserError as exc:
-        raise _FileError(f"rows could not be parsed ({exc})") from exc
-    frame = frame.dropna(how="all")
-    if len(frame) == 0:
-        raise _FileError("file has no data rows")
-    cols = list(frame.columns)
-    mapping = _match_columns(cols, channels)
-    if "pv" not in mapping:
-        raise _FileError(f"no PV column (looked for {'/'.join(_ALIASES['pv'])} in {cols})")
-    reasons = []
-    out = {
-        key: _to_numeric(frame, mapping[key])
-        for key in ("pv", "op", "sp", "mode")
-        if key in mapping
-    }
-    if "op" not in mapping:
-        reasons.append("no OP column")
-    start = pd.NaT
-    file_ts = None
-    if "time" in mapping:
-        t, start = _seconds(frame, mapping["time"], info["time_format"])
-        dt = np.diff(t)
-        if len(dt) and (dt <= 0).any():
-            i = int(np.flatnonzero(dt <= 0)[0])
-            what = "duplicated" if dt[i] == 0 else "not increasing (unsorted)"
-            raise _FileError(
-                f"timestamps are {what} at data row {i + 2} ({frame[mapping['time']].iloc[i]!r} "
-                f"then {frame[mapping['time']].iloc[i + 1]!r})"
-            )
-        if len(dt):
-            file_ts = float(np.median(dt))
-            # Gaps and jitter are reported, not repaired: resampling would invent data.
-            off = np.abs(dt - file_ts) > 0.01 * file_ts
-            if off.any():
-                reasons.append(
-                    f"irregular sampling: {int(off.sum())} intervals differ from {file_ts:g} s "
-                    f"(min {dt.min():g}, max {dt.max():g})"
-                )
-        out["time"] = t
-    if ts is not None:
-        if file_ts is not None and abs(file_ts - ts) > 0.01 * ts:
-            reasons.append(f"ts={ts:g} given, timestamps say {file_ts:g} s")
-        file_ts = ts
-    if file_ts is None:
-        raise _FileError("cannot determine the sampling time (no time column); pass ts=")
-    if info["declared_rows"] is not None and info["declared_rows"] != len(frame):
-        reasons.append(f"header declares {info['declared_rows']} rows, file has {len(frame)}")
-    n = len(frame)
-    std = pd.DataFrame({"time": out.pop("time", np.arange(n) * file_ts)})
-    for key in ("pv", "op", "sp", "mode"):
-        std[key] = out.get(key, np.full(n, np.nan))
-    used = {mapping[k] for k in mapping}
-    for c in cols:
-        if c not in used:
-            std[c] = frame[c].to_numpy()
-    isa, loop_type = _loop_type(info["tag"])
-    mode = std["mode"].to_numpy()
-    meta = {
-        "format": info["format"],
-        "tag": info["tag"],
-        "isa": isa,
-        "loop_type": loop_type,
-        "ts": file_ts,
-        "n_samples": n,
-        "n_nan": int(np.isnan(std[["pv", "op"]].to_numpy()).any(axis=1).sum()),
-        "auto_fraction": float(np.mean(mode == 1)) if "mode" in mapping else np.nan,
-        "start": start,
-        "status": "ok",
-        "reason": "; ".join(reasons),
-    }
-    return std, meta
-
-
-def read_loops(paths, *, ts=None, channels=None, on_error="raise", return_frames=False):
-    """Read measured control loops from historian exports or CSV files.
+def list_loop_files(paths):
+    """Every file under ``paths``, whether it will be read, and why not.
 
     Parameters
     ----------
     paths : str, Path or iterable of them
-        Files, or directories whose ``.txt``, ``.csv`` and ``.tsv`` files are all read in
-        name order (``index.csv`` / ``index.txt`` are skipped: they describe a folder).
-        Each file is one loop. The layout is detected from the first line: a historian
-        export starting with ``PROCESSDATA`` (columns ``<tag>.MV/.PV/.SV/.MODE``), or
-        delimited text with a header row (``,``, ``;`` or tab).
-    ts : float or None, default=None
-        Sampling time in seconds. Needed for files without a time column; when given it
-        overrides the timestamps (a disagreement is noted in ``meta.reason``).
-    channels : dict or None, default=None
-        Column names to use instead of the automatic match, keyed by ``"pv"``, ``"op"``,
-        ``"sp"``, ``"time"``, ``"mode"``. Automatic matching compares names
-        case-insensitively, also after a ``<tag>.`` or ``<tag>_`` prefix: PV from
-        PV/Y/CV, OP from OP/MV/OUT/CO, SP from SP/SV/SETPOINT, time from
-        TIME/T/T_S/TIMESTAMP/DATETIME, mode from MODE. Numeric times are seconds;
-        text times are parsed as dates.
-    on_error : {"raise", "skip"}, default="raise"
-        ``"raise"``: a bad file raises ``ValueError`` naming the file and the problem.
-        ``"skip"``: the file gets ``status="error"`` and the message in ``meta.reason``
-        and an all-NaN row in ``X``; it is never dropped silently.
-    return_frames : bool, default=False
-        Also return each file's parsed table.
+        Files or folders; folders are walked recursively (sub-folders included).
 
     Returns
     -------
-    data : sklearn.utils.Bunch
-        ``X`` : ndarray of shape (n_files, max_len, 3)
-            Channels PV, OP, SP, NaN-padded at the end; SP (or OP) all-NaN when the file
-            has none. NaN gaps inside a record are kept.
-        ``meta`` : pandas.DataFrame, one row per file
-            ``file``, ``path``, ``format`` (``historian``/``csv``), ``tag`` (from the
-            header, else the file stem), ``isa`` (controller letters found in the tag,
-            e.g. ``FIC``), ``loop_type`` (``flow``, ``level``, ``pressure``,
-            ``temperature`` or ``unknown``), ``ts`` (s), ``n_samples``, ``n_nan`` (rows
-            with PV or OP missing), ``auto_fraction`` (share of rows with MODE == 1, NaN
-            without MODE), ``start`` (first timestamp or NaT), ``status`` (``ok`` or
-            ``error``), ``reason`` (error message or notes such as irregular sampling).
-        ``channels`` : tuple
-            ``("pv", "op", "sp")``.
-        ``frames`` : list of DataFrame or None, only with ``return_frames=True``
-            Columns ``time`` (s from the first row), ``pv``, ``op``, ``sp``, ``mode``,
-            then the file's other columns as text; ``None`` for files in error.
-
-    Raises
-    ------
-    ValueError
-        For a bad argument, or (with ``on_error="raise"``) a file that is empty, has
-        no PV column, non-numeric values, unsorted or duplicated timestamps, or no way
-        to know its sampling time. The message names the file.
+    files : pandas.DataFrame
+        One row per file, in path order within each folder: ``path`` (str),
+        ``supported`` (bool), ``reason`` (empty when supported; else what to do, e.g.
+        "old Excel format (.xls): save it as .xlsx or CSV"). A path that does not exist,
+        and a folder holding no readable file, get a row of their own with
+        ``supported=False``.
 
     Examples
     --------
     >>> import tempfile
     >>> from pathlib import Path
-    >>> from sktiction.datasets._measured import read_loops
+    >>> from sktiction.datasets import list_loop_files
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> _ = (folder / "FIC101.csv").write_text("t,PV,OP\\n0,1,2\\n")
+    >>> _ = (folder / "FIC102.dat").write_text("0 1 2\\n")
+    >>> list_loop_files(folder)[["supported", "reason"]].to_dict("records")[1]["supported"]
+    False
+    """
+    if isinstance(paths, str | os.PathLike):
+        paths = [paths]
+    rows = []
+    for p in paths:
+        p = Path(p)
+        if p.is_dir():
+            files = []
+            for root, dirs, names in os.walk(p):
+                dirs.sort()
+                files.extend(Path(root) / n for n in sorted(names))
+            found = [_file_row(f) for f in files]
+            rows.extend(found)
+            if not any(r["supported"] for r in found):
+                what = f"{len(found)} files, none readable" if found else "no files"
+                reason = f"folder holds no readable loop file ({what})"
+                rows.append({"path": str(p), "supported": False, "reason": reason})
+        elif p.exists():
+            rows.append(_file_row(p))
+        else:
+            what = "file" if p.suffix else "path"
+            rows.append({"path": str(p), "supported": False, "reason": f"{what} does not exist"})
+    return pd.DataFrame(rows, columns=["path", "supported", "reason"])
+
+
+def _file_row(path):
+    kind, reason = file_kind(path)
+    return {"path": str(path), "supported": kind is not None, "reason": reason}
+
+
+# ---- columns -------------------------------------------------------------------------------
+
+
+def _split(name):
+    """(prefix, channel key) of a column name, or None: full name first, then suffixes."""
+    low = str(name).strip().lower()
+    if low in _KEY_OF:
+        return "", _KEY_OF[low]
+    for sep in (".", "_", " "):
+        if sep in low:
+            head, tail = low.rsplit(sep, 1)
+            if tail.strip() in _KEY_OF:
+                return str(name).strip()[: len(head)].strip(), _KEY_OF[tail.strip()]
+    return None
+
+
+def _plan(names, channels):
+    """Which columns hold time and each loop's channels.
+
+    Returns ``(time, loops, notes)``: ``time`` a list of 0, 1 or 2 (date, time) positions,
+    ``loops`` a list of ``(prefix, {key: position})`` with a PV each, ``notes`` strings.
+    """
+    channels = dict(channels or {})
+    fixed = {}
+    for key, col in channels.items():
+        if col not in names:
+            raise FileError(f"column {col!r} given in channels[{key!r}] is not in {names}")
+        fixed[key] = names.index(col)
+    found = {}  # (prefix, key) -> positions
+    for i, name in enumerate(names):
+        if i in fixed.values():
+            continue
+        hit = _split(name)
+        if hit is not None:
+            found.setdefault(hit, []).append(i)
+    # Time: one column shared by all loops, or a date column and a time-of-day column.
+    if "time" in fixed:
+        time = [fixed.pop("time")]
+    else:
+        cand = [i for (prefix, key), pos in found.items() if key == "time" for i in pos]
+        dates = [i for i in cand if names[i].strip().lower().endswith("date")]
+        if len(cand) == 2 and len(dates) == 1:
+            time = [dates[0], next(i for i in cand if i != dates[0])]
+        elif len(cand) > 1:
+            raise FileError(
+                f"several columns could be the time: {[names[i] for i in cand]}; choose one "
+                f"with channels={{'time': ...}}"
+            )
+        else:
+            time = cand
+    if fixed:
+        # Explicit channels make one loop; missing keys fall back to the unprefixed match.
+        loop = dict(fixed)
+        for key in _LOOP_KEYS:
+            pos = found.get(("", key), [])
+            if key not in loop and len(pos) == 1 and pos[0] not in loop.values():
+                loop[key] = pos[0]
+        if "pv" not in loop:
+            raise FileError(f"no PV column: add 'pv' to channels (columns: {names})")
+        prefix = _split(names[loop["pv"]]) or ("", "")
+        return time, [(prefix[0], loop)], []
+    groups = {}
+    for (prefix, key), pos in found.items():
+        if key == "time":
+            continue
+        if len(pos) > 1:
+            raise FileError(
+                f"several columns could be {key.upper()}: {[names[i] for i in pos]}; "
+                f"choose one with channels={{{key!r}: ...}}"
+            )
+        groups.setdefault(prefix, {})[key] = pos[0]
+    loops = [(prefix, g) for prefix, g in groups.items() if "pv" in g]
+    if not loops:
+        raise FileError(
+            f"no PV column (looked for {'/'.join(_ALIASES['pv'])}, also after a "
+            f"'<tag>.' prefix, in {names}); name it with channels={{'pv': ...}}"
+        )
+    notes = [
+        f"columns {[names[i] for i in g.values()]} not used: no PV beside them"
+        for prefix, g in groups.items()
+        if "pv" not in g
+    ]
+    return time, sorted(loops, key=lambda item: min(item[1].values())), notes
+
+
+def _numeric(col, name, decimal, strict):
+    """Column as float; historian status text becomes NaN and is counted.
+
+    Returns ``(values, counts)`` with ``counts`` a Counter of the text values replaced.
+    """
+    if col.dtype.kind in "fiub":
+        return col.to_numpy(dtype=float, na_value=np.nan), Counter()
+    text = col.astype(object)
+    if decimal == ",":
+        text = col.astype(str).str.replace(",", ".", regex=False).where(col.notna(), None)
+    values = pd.to_numeric(text, errors="coerce")
+    bad = values.isna().to_numpy() & col.notna().to_numpy()
+    if not bad.any():
+        return values.to_numpy(dtype=float), Counter()
+    idx = np.flatnonzero(bad)
+    raw = col.iloc[idx].astype(str).str.strip()
+    missing = raw.str.lower().isin(_MISSING_TEXT).to_numpy()
+    idx, raw = idx[~missing], raw[~missing]
+    if strict and len(idx):
+        raise FileError(
+            f"column {name!r} is not numeric: row {idx[0] + 1} of the data holds "
+            f"{col.iloc[idx[0]]!r} ({len(idx)} such values)"
+        )
+    return values.to_numpy(dtype=float), Counter(raw.tolist())
+
+
+def _mode(col):
+    if col.dtype.kind in "fiub":
+        return col.to_numpy(dtype=float, na_value=np.nan)
+    text = col.astype(str).str.strip().str.lower()
+    mapped = text.map(_MODE_TEXT).astype(float)
+    return mapped.fillna(pd.to_numeric(col, errors="coerce")).to_numpy(dtype=float)
+
+
+def _status_note(counts, label):
+    n = sum(counts.values())
+    top = ", ".join(f"{v!r} x{c}" for v, c in counts.most_common(3))
+    more = ", ..." if len(counts) > 3 else ""
+    return f"{n} text values in {label} read as NaN ({top}{more})"
+
+
+# ---- one file ------------------------------------------------------------------------------
+
+
+def _check_args(ts, channels, time_unit):
+    if ts is not None:
+        ts = check_positive(ts, "ts")
+    if channels is not None:
+        if not isinstance(channels, dict) or set(channels) - set(_ALIASES):
+            raise ValueError(
+                f"channels must be a dict with keys among {sorted(_ALIASES)}; got {channels!r}."
+            )
+    if time_unit not in TIME_UNITS:
+        raise ValueError(f"time_unit must be one of {TIME_UNITS}; got {time_unit!r}.")
+    return ts
+
+
+def _read_file(path, channels, ts, strict, time_unit):
+    """Read one file; return (X, rows, frames) or raise FileError / TimeError."""
+    if path.is_dir():
+        raise FileError("is a folder: read it with read_loops or list its files first")
+    if not path.exists():
+        raise FileError("file does not exist")
+    kind, why = file_kind(path)
+    if kind is None:
+        raise _Unsupported(why)
+    table = open_table(path, kind)
+    info, names = table.info, table.names
+    time_pos, loops, notes = _plan(names, channels)
+    positions = list(time_pos) + [p for _, g in loops for p in g.values()]
+    frame = table.read(positions)
+    notes = info["notes"] + notes
+    n = len(frame)
+    if n == 0:
+        raise FileError("file has no data rows")
+    decimal = "," if "decimal comma" in info["notes"] else "."
+    # Values of every loop side by side: pv, op, sp, mode per loop.
+    values = np.full((n, 4 * len(loops)), np.nan)
+    loop_notes = [[] for _ in loops]
+    for j, (_, g) in enumerate(loops):
+        for k, key in enumerate(_LOOP_KEYS):
+            if key not in g:
+                continue
+            col = frame[g[key]]
+            if key == "mode":
+                values[:, 4 * j + k] = _mode(col)
+                continue
+            values[:, 4 * j + k], counts = _numeric(col, names[g[key]], decimal, strict)
+            if counts:
+                loop_notes[j].append(_status_note(counts, key.upper()))
+    start, step = pd.NaT, None
+    if time_pos:
+        raw = frame[time_pos[0]]
+        if len(time_pos) == 2:
+            raw = raw.astype(str).str.strip() + " " + frame[time_pos[1]].astype(str).str.strip()
+        label = " + ".join(names[i] for i in time_pos)
+        if strict and raw.isna().any():
+            raise FileError(f"time column {label!r} has {int(raw.isna().sum())} empty values")
+        t, start, time_notes = parse_times(raw, time_format=info["time_format"], unit=time_unit)
+        notes += time_notes
+        ok = ~np.isnan(t)
+        if not ok.all():
+            notes.append(f"{int((~ok).sum())} rows without a readable time skipped")
+            t, values, raw = t[ok], values[ok], raw[ok]
+        if strict:
+            _strict_order(t, raw)
+        hold = [4 * j + 3 for j in range(len(loops))]
+        t, values, step, time_notes = regularise(t, values, hold=hold, strict=strict)
+        notes += time_notes
+    if ts is not None:
+        if step is not None and abs(step - ts) > 0.01 * ts:
+            notes.append(f"ts={ts:g} given, timestamps say {step:g} s")
+        step = ts
+    if step is None:
+        if n == 1:
+            raise FileError("only one row of data")
+        raise FileError("cannot determine the sampling time (no time column); pass ts=")
+    if info["declared_rows"] is not None and info["declared_rows"] != n:
+        notes.append(f"header declares {info['declared_rows']} rows, file has {n}")
+    m = len(values)
+    X = np.empty((len(loops), m, 3))
+    rows, frames = [], []
+    for j, (prefix, g) in enumerate(loops):
+        X[j] = values[:, 4 * j : 4 * j + 3]
+        tag = prefix or (info["tag"] if len(loops) == 1 and info["tag"] else path.stem)
+        if info["format"] == "historian" and len(loops) == 1 and info["tag"]:
+            tag = info["tag"]
+        reason = notes + loop_notes[j]
+        if "op" not in g:
+            reason.append("no OP column")
+        pv, op = X[j, :, 0], X[j, :, 1]
+        status = STATUS_OK
+        if np.isnan(pv).all():
+            status = STATUS_ERROR
+            reason.insert(0, f"PV column {names[g['pv']]!r} holds no numbers")
+            X[j] = np.nan  # a loop in error carries no data, as in read_loops(on_error="skip")
+        missing = np.isnan(pv) | (np.isnan(op) if "op" in g else False)
+        isa, loop_type = _loop_type(tag)
+        mode = values[:, 4 * j + 3]
+        rows.append({
+            "format": info["format"], "tag": tag, "isa": isa, "loop_type": loop_type,
+            "ts": step, "n_samples": m, "n_nan": int(missing.sum()),
+            "auto_fraction": float(np.mean(mode == 1)) if "mode" in g else np.nan,
+            "start": start, "status": status, "reason": "; ".join(reason),
+        })  # fmt: skip
+        frames.append(
+            pd.DataFrame({
+                "time": t if time_pos else np.arange(m) * step, "pv": pv, "op": op,
+                "sp": X[j, :, 2], "mode": mode,
+            })  # fmt: skip
+        )
+    return X, rows, frames
+
+
+def _strict_order(t, raw):
+    """Today's strict behaviour: unsorted or duplicated timestamps are errors."""
+    dt = np.diff(t)
+    if len(dt) and (dt <= 0).any():
+        i = int(np.flatnonzero(dt <= 0)[0])
+        what = "duplicated" if dt[i] == 0 else "not increasing (unsorted)"
+        raise FileError(
+            f"timestamps are {what} at data row {i + 2} ({raw.iloc[i]!r} then "
+            f"{raw.iloc[i + 1]!r})"
+        )
+
+
+def _meta_frame(rows):
+    meta = pd.DataFrame(rows).reindex(columns=_META_COLUMNS)
+    meta["n_samples"] = meta["n_samples"].fillna(0).astype(int)
+    meta["n_nan"] = meta["n_nan"].astype(float)
+    meta["ts"] = meta["ts"].astype(float)
+    meta["auto_fraction"] = meta["auto_fraction"].astype(float)
+    meta["start"] = pd.to_datetime(meta["start"])
+    for col in ("format", "tag", "isa", "loop_type", "reason"):
+        meta[col] = meta[col].astype(object).where(meta[col].notna(), "")
+    meta.loc[meta["status"] != STATUS_OK, "loop_type"] = "unknown"
+    return meta
+
+
+def read_loop_file(
+    path, *, channels=None, ts=None, strict=False, time_unit="auto", return_frames=False
+):
+    """Read the loops of one file (historian export, CSV, Excel or Parquet).
+
+    Memory is that of this file alone: no padding to other files' lengths. Problems with
+    the file never raise: they give ``status != "ok"`` and a reason.
+
+    Parameters
+    ----------
+    path : str or Path
+        One file. Historian exports (first line ``PROCESSDATA``, columns
+        ``<tag>.MV/.PV/.SV/.MODE``), delimited text with a header row (``,``, ``;``, tab or
+        ``|``; decimal comma; comment or title lines before the header; UTF-8, UTF-16,
+        GB18030 or latin-1), ``.xlsx`` (needs openpyxl) and ``.parquet`` (needs pyarrow).
+    channels : dict or None, default=None
+        Column names to use instead of the automatic match, keyed by ``"pv"``, ``"op"``,
+        ``"sp"``, ``"time"``, ``"mode"``, e.g. ``{"pv": "FIC101.PV", "op": "FIC101.OP"}``;
+        the file then gives one loop. Automatic matching compares names
+        case-insensitively, also after a ``<tag>.``, ``<tag>_`` or ``<tag> `` prefix: PV
+        from PV/Y/CV, OP from OP/MV/OUT/CO, SP from SP/SV/SETPOINT, time from
+        TIME/T/T_S/TIMESTAMP/DATETIME/DATE (a DATE and a TIME column are joined), mode
+        from MODE. Several prefixes with a PV each give one loop per prefix.
+    ts : float or None, default=None
+        Sampling time in seconds. Needed for files without a time column; when given it
+        overrides the timestamps (a disagreement is noted in the reason).
+    strict : bool, default=False
+        Reject instead of repair: text values in a channel (historian status such as
+        ``Bad``, ``I/O Timeout``, ``#VALUE!``), empty times, unsorted or duplicated
+        timestamps make the file an error, and irregular sampling is only reported.
+    time_unit : {"auto", "s", "epoch_s", "epoch_ms", "epoch_us", "epoch_ns", "excel"}, \
+default="auto"
+        Unit of a numeric time column. ``"auto"`` tells epoch seconds/milliseconds/...
+        and Excel serial days from their range (between 1990 and 2100) and names the
+        unit it chose in the reason; anything else is seconds.
+    return_frames : bool, default=False
+        Also return each loop's table (``time`` in seconds from the start, ``pv``,
+        ``op``, ``sp``, ``mode``).
+
+    Returns
+    -------
+    data : sklearn.utils.Bunch
+        ``X`` : ndarray of shape (n_loops_in_file, n_samples, 3)
+            Channels PV, OP, SP on a regular time grid; absent channels all-NaN, NaN
+            where a value was missing or status text. ``X.shape[0] == len(meta)`` always
+            (``(1, 0, 3)`` for a file that could not be read).
+        ``meta`` : pandas.DataFrame, one row per loop
+            ``file``, ``path``, ``format`` (historian/csv/xlsx/parquet), ``tag`` (from the
+            header or column prefix, else the file stem), ``isa``, ``loop_type`` (flow,
+            level, pressure, temperature or unknown, from the ISA letters of the tag),
+            ``ts`` (s), ``n_samples``, ``n_nan`` (rows with PV, or OP when present,
+            missing), ``auto_fraction`` (share of rows with MODE == 1, NaN without MODE),
+            ``start`` (first timestamp or NaT), ``status`` (``ok``, ``error`` or
+            ``unsupported``), ``reason`` (the error, or notes separated by ``"; "``: rows
+            sorted, duplicated timestamps kept the first, resampled to the median step,
+            n text values read as NaN, n blank rows skipped, time unit, encoding, ...).
+        ``frames`` : list of DataFrame or None, only with ``return_frames=True``.
+
+    Raises
+    ------
+    ValueError
+        Only for bad arguments (``ts``, ``channels``, ``time_unit``).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from sktiction.datasets import read_loop_file
+    >>> f = Path(tempfile.mkdtemp()) / "unit3.csv"
+    >>> _ = f.write_text("time;FIC1.PV;FIC1.OP;LIC2.PV;LIC2.OP\\n"
+    ...                  "0;1,5;40;7;20\\n10;Bad;41;7,5;21\\n20;1,7;42;8;22\\n")
+    >>> data = read_loop_file(f)
+    >>> data.X.shape
+    (2, 3, 3)
+    >>> data.X[0, :, 0].tolist()
+    [1.5, nan, 1.7]
+    >>> data.meta[["tag", "loop_type", "ts", "status"]].to_dict("records")[0]
+    {'tag': 'FIC1', 'loop_type': 'flow', 'ts': 10.0, 'status': 'ok'}
+    >>> data.meta.loc[0, "reason"]
+    "decimal comma; 1 text values in PV read as NaN ('Bad' x1)"
+    """
+    ts = _check_args(ts, channels, time_unit)
+    path = Path(path)
+    base = {"file": path.name, "path": str(path)}
+    try:
+        X, rows, frames = _read_file(path, channels, ts, strict, time_unit)
+    except (FileError, TimeError, OSError) as exc:
+        status = STATUS_UNSUPPORTED if isinstance(exc, _Unsupported) else STATUS_ERROR
+        message = str(exc) if not isinstance(exc, OSError) else f"cannot open: {exc.strerror}"
+        X, frames = np.full((1, 0, 3), np.nan), [None]
+        rows = [{"n_samples": 0, "status": status, "reason": message}]
+    except Exception as exc:  # noqa: BLE001 - one odd file must not stop a scan of thousands
+        X, frames = np.full((1, 0, 3), np.nan), [None]
+        reason = f"could not be read ({type(exc).__name__}: {exc}); please report this file"
+        rows = [{"n_samples": 0, "status": STATUS_ERROR, "reason": reason}]
+    data = Bunch(X=X, meta=_meta_frame([{**base, **r} for r in rows]), channels=CHANNELS)
+    if return_frames:
+        data["frames"] = frames
+    return data
+
+
+# ---- many files ----------------------------------------------------------------------------
+
+
+def read_loops(
+    paths, *, ts=None, channels=None, on_error="raise", return_frames=False, strict=False,
+    time_unit="auto",
+):  # fmt: skip
+    """Read measured control loops from historian exports, CSV, Excel or Parquet files.
+
+    Built on :func:`list_loop_files` and :func:`read_loop_file` (see it for layouts,
+    column matching and repairs); all loops are padded to the longest, so for many or
+    long files call :func:`read_loop_file` per file instead.
+
+    Parameters
+    ----------
+    paths : str, Path or iterable of them
+        Files, or folders whose readable files (``.txt``, ``.csv``, ``.tsv``, ``.xlsx``,
+        ``.parquet``) are all read, sub-folders included, in path order.
+        ``index.csv`` / ``index.txt`` describe a folder and are not read. Files of other
+        types inside a folder are listed in ``skipped``; a file named directly must be
+        readable.
+    ts : float or None, default=None
+        Sampling time in seconds (see :func:`read_loop_file`).
+    channels : dict or None, default=None
+        Column names keyed by ``"pv"``, ``"op"``, ``"sp"``, ``"time"``, ``"mode"``
+        (see :func:`read_loop_file`).
+    on_error : {"raise", "skip"}, default="raise"
+        ``"raise"``: a bad file raises ``ValueError`` naming the file and the problem.
+        ``"skip"``: the file gets ``status="error"`` (or ``"unsupported"``) and the
+        message in ``meta.reason`` and an all-NaN row in ``X``; it is never dropped
+        silently.
+    return_frames : bool, default=False
+        Also return each loop's table.
+    strict : bool, default=False
+        Reject text values, unsorted or duplicated timestamps instead of repairing
+        them (see :func:`read_loop_file`).
+    time_unit : str, default="auto"
+        Unit of numeric time columns (see :func:`read_loop_file`).
+
+    Returns
+    -------
+    data : sklearn.utils.Bunch
+        ``X`` : ndarray of shape (n_loops, max_len, 3)
+            Channels PV, OP, SP, NaN-padded at the end; one row per loop (a wide file
+            gives several).
+        ``meta`` : pandas.DataFrame, one row per loop
+            As in :func:`read_loop_file`.
+        ``skipped`` : pandas.DataFrame
+            Files inside the folders that were not read, with ``path`` and ``reason``.
+        ``channels`` : tuple
+            ``("pv", "op", "sp")``.
+        ``frames`` : list of DataFrame or None, only with ``return_frames=True``.
+
+    Raises
+    ------
+    ValueError
+        For a bad argument, a path that does not exist, a folder with nothing to read, or
+        (with ``on_error="raise"``) a file that cannot be read. The message names the file.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from sktiction.datasets import read_loops
     >>> folder = Path(tempfile.mkdtemp())
     >>> text = "t_s,OP,PV\\n0,40.0,50.1\\n10,41.0,50.3\\n20,42.0,50.2\\n"
     >>> _ = (folder / "FIC101.csv").write_text(text)
@@ -381,37 +574,51 @@ def read_loops(paths, *, ts=None, channels=None, on_error="raise", return_frames
     """
     if on_error not in ("raise", "skip"):
         raise ValueError(f"on_error must be 'raise' or 'skip'; got {on_error!r}.")
-    if ts is not None:
-        ts = check_positive(ts, "ts")
-    if channels is not None:
-        if not isinstance(channels, dict) or set(channels) - set(_ALIASES):
-            raise ValueError(
-                f"channels must be a dict with keys among {sorted(_ALIASES)}; got {channels!r}."
-            )
-    files = _expand_paths(paths)
-    frames, rows = [], []
-    for path in files:
-        try:
-            frame, meta = _read_one(path, ts, channels)
-        except _FileError as exc:
-            message = f"{path.name}: {exc}."
-            if on_error == "raise":
-                raise ValueError(message) from exc
-            frame, meta = None, {"n_samples": 0, "status": "error", "reason": message}
-        frames.append(frame)
-        rows.append({"file": path.name, "path": str(path), **meta})
-    max_len = max([1] + [len(f) for f in frames if f is not None])
-    X = np.full((len(files), max_len, 3), np.nan)
-    for i, f in enumerate(frames):
-        if f is not None:
-            X[i, : len(f)] = f[list(CHANNELS)].to_numpy(dtype=float)
-    meta = pd.DataFrame(rows).reindex(columns=_META_COLUMNS)
-    meta["n_samples"] = meta["n_samples"].astype(int)
-    meta["start"] = pd.to_datetime(meta["start"])
-    for col in ("format", "tag", "isa", "loop_type"):
-        meta[col] = meta[col].astype(object).where(meta[col].notna(), "")
-    meta.loc[meta["status"] == "error", "loop_type"] = "unknown"
-    data = Bunch(X=X, meta=meta, channels=CHANNELS)
+    ts = _check_args(ts, channels, time_unit)
+    if isinstance(paths, str | os.PathLike):
+        paths = [paths]
+    items, skipped = [], []  # items: (path, None) to read or (path, reason) unreadable
+    for p in paths:
+        in_folder = Path(p).is_dir()
+        for row in list_loop_files(p).itertuples(index=False):
+            if row.supported:
+                items.append((Path(row.path), None))
+            elif in_folder and Path(row.path) != Path(p):
+                skipped.append({"path": row.path, "reason": row.reason})
+            else:
+                items.append((Path(row.path), row.reason))
+    for path, reason in items:
+        if on_error == "raise" and reason is not None:
+            raise ValueError(f"{path.name}: {reason}.")
+    parts, rows, frames = [], [], []
+    for path, reason in items:
+        if reason is not None:
+            status = STATUS_ERROR if "exist" in reason else STATUS_UNSUPPORTED
+            rows.append({"file": path.name, "path": str(path), "n_samples": 0,
+                         "status": status, "reason": reason})  # fmt: skip
+            parts.append(np.full((1, 0, 3), np.nan))
+            frames.append(None)
+            continue
+        data = read_loop_file(
+            path, channels=channels, ts=ts, strict=strict, time_unit=time_unit,
+            return_frames=return_frames,
+        )  # fmt: skip
+        bad = data.meta["status"] != STATUS_OK
+        if on_error == "raise" and bad.any():
+            raise ValueError(f"{path.name}: {data.meta.loc[bad.idxmax(), 'reason']}.")
+        parts.append(data.X)
+        rows.extend(data.meta.to_dict("records"))
+        if return_frames:
+            frames.extend(data.frames)
+    max_len = max([1] + [x.shape[1] for x in parts])
+    X = np.full((sum(len(x) for x in parts), max_len, 3), np.nan)
+    i = 0
+    for x in parts:
+        X[i : i + len(x), : x.shape[1]] = x
+        i += len(x)
+    meta = _meta_frame(rows)
+    skipped = pd.DataFrame(skipped, columns=["path", "reason"])
+    data = Bunch(X=X, meta=meta, skipped=skipped, channels=CHANNELS)
     if return_frames:
         data["frames"] = frames
     return data

@@ -1,0 +1,348 @@
+"""Open one export file as a table: column names first, then only the columns needed.
+
+Layouts:
+
+* **historian export** (text whose first line starts with ``PROCESSDATA``): five header
+  lines, then tab-separated rows ``timestamp, <tag>.MV, <tag>.PV, <tag>.SV, <tag>.MODE,
+  flags...``. Line 1 holds the time format, line 2 the start time and the declared row
+  count, line 3 the column names, line 4 descriptions, line 5 grid settings.
+* **delimited text** (``.csv``, ``.txt``, ``.tsv``): separator (tab, ``;``, ``|`` or ``,``)
+  and decimal mark judged from the data rows; title or comment lines before the header
+  row and a units row after it are skipped and noted; an Excel ``sep=;`` line is obeyed.
+  Encodings: UTF-8 (with or without BOM), UTF-16 (BOM or not), GB18030 (Chinese
+  historian descriptions), else latin-1.
+* **Excel workbook** (``.xlsx``, needs openpyxl): the first sheet holding data; title rows
+  above the header are skipped.
+* **Parquet** (``.parquet``, needs pyarrow): columns as stored.
+"""
+
+from __future__ import annotations
+
+import codecs
+import csv
+import re
+import warnings
+from pathlib import Path
+
+import pandas as pd
+
+__all__ = ["FileError", "file_kind", "open_table"]
+
+TEXT_SUFFIXES = (".txt", ".csv", ".tsv")
+SUFFIXES = {
+    **dict.fromkeys(TEXT_SUFFIXES, "text"),
+    ".xlsx": "xlsx", ".xlsm": "xlsx", ".parquet": "parquet", ".pq": "parquet",
+}  # fmt: skip
+INDEX_NAMES = ("index.csv", "index.txt")
+_READABLE = ", ".join(SUFFIXES)
+_UNSUPPORTED = {
+    ".xls": "old Excel format (.xls): save it as .xlsx or CSV",
+    ".dat": "'.dat' has no known layout: if it is delimited text, rename it to .csv",
+    ".gz": "compressed file: unpack it first",
+    ".zip": "compressed file: unpack it first",
+    ".7z": "compressed file: unpack it first",
+}
+_HEAD_BYTES = 1 << 16
+_SEPARATORS = ("\t", ";", "|", ",")  # preference when several split the rows evenly
+_COMMENT = ("#", "//", "%", "!")
+_DATE_LIKE = re.compile(r"\d{1,4}[-/.:]\d{1,2}[-/.:]\d{1,4}")
+_NUMBER = re.compile(r"^\s*[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?\s*$")
+
+
+class FileError(ValueError):
+    """A problem with one file, in words a person can act on."""
+
+
+def file_kind(path):
+    """Reader kind of a file from its name: ``(kind, reason)``; kind None if unsupported.
+
+    Examples
+    --------
+    >>> from sktiction.datasets._readers import file_kind
+    >>> file_kind("FIC101.csv")
+    ('text', '')
+    >>> file_kind("FIC101.dat")[1]
+    "'.dat' has no known layout: if it is delimited text, rename it to .csv"
+    """
+    path = Path(path)
+    name = path.name.lower()
+    if name in INDEX_NAMES:
+        return None, "folder index (labels of the other files), not a loop"
+    if name.startswith("~$"):
+        return None, "Office lock file (the workbook is open somewhere), not a loop"
+    suffix = path.suffix.lower()
+    if suffix in SUFFIXES:
+        return SUFFIXES[suffix], ""
+    if not suffix:
+        return None, f"no file extension: not read (readable: {_READABLE})"
+    return None, _UNSUPPORTED.get(
+        suffix, f"unsupported file type '{suffix}' (readable: {_READABLE})"
+    )
+
+
+def _is_number(text):
+    return bool(_NUMBER.match(str(text)))
+
+
+# ---- text --------------------------------------------------------------------------------
+
+
+def _encoding(raw):
+    """Encoding of a file from its first bytes; FileError for binary content."""
+    if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return "utf-16"
+    if raw.startswith(codecs.BOM_UTF8):
+        return "utf-8-sig"
+    if b"\x00" in raw:
+        # UTF-16 without BOM: every other byte of ASCII text is zero.
+        if raw[1::2].count(0) > 0.4 * len(raw) / 2:
+            return "utf-16-le"
+        if raw[0::2].count(0) > 0.4 * len(raw) / 2:
+            return "utf-16-be"
+        raise FileError("binary file (holds NUL bytes), not a text export")
+    try:
+        codecs.getincrementaldecoder("utf-8")().decode(raw, final=False)
+        return "utf-8"
+    except UnicodeDecodeError:
+        pass
+    # GBK characters are byte pairs >= 0x81; latin-1 accents are mostly single high bytes.
+    runs = [len(m) for m in re.findall(rb"[\x80-\xff]+", raw)]
+    if runs and all(n % 2 == 0 for n in runs):
+        try:
+            codecs.getincrementaldecoder("gb18030")().decode(raw, final=False)
+            return "gb18030"
+        except UnicodeDecodeError:
+            pass
+    return "latin-1"
+
+
+def _fields(line, sep):
+    return next(csv.reader([line], delimiter=sep), [])
+
+
+def _choose_separator(lines):
+    """Separator splitting the last rows of the head into equal, >= 2 field counts."""
+    rows = [ln for ln in lines[-50:] if ln.strip() and not ln.lstrip().startswith(_COMMENT)]
+    for sep in _SEPARATORS:
+        counts = [len(_fields(ln, sep)) for ln in rows]
+        if not counts:
+            break
+        mode = max(set(counts), key=counts.count)
+        if mode >= 2 and counts.count(mode) >= 0.9 * len(counts):
+            return sep, mode
+    return ",", 1
+
+
+class Table:
+    """One file's column names, with a method to read some columns as a DataFrame.
+
+    ``info`` holds ``format``, ``tag`` (from the file, else None), ``time_format``,
+    ``declared_rows`` and ``notes`` (things the reader did, for ``meta.reason``).
+    """
+
+    def __init__(self, names, info, reader):
+        self.names = names
+        self.info = info
+        self._reader = reader
+
+    def read(self, positions):
+        """Columns at ``positions`` (a list of int), named by position, blank rows counted."""
+        frame = self._reader(sorted(set(positions)))
+        blank = frame.isna().all(axis=1).to_numpy()
+        if blank.any():
+            # Rows without any value cannot be placed in time: drop them, say how many.
+            self.info["notes"].append(f"{int(blank.sum())} blank rows skipped")
+            frame = frame.loc[~blank].reset_index(drop=True)
+        return frame
+
+
+def _historian_header(lines):
+    if len(lines) < 5:
+        raise FileError("historian header is incomplete (fewer than 5 lines)")
+    first = lines[0].lstrip("\ufeff").split("\t")
+    names = [c.strip() for c in lines[2].split("\t")]
+    if names[0].lower() != "tagname" or len(names) < 3:
+        raise FileError(f"line 3 should start with 'tagname' and list columns; got {lines[2]!r}")
+    names[0] = "time"
+    # Line 1 names the loop ("<tag> Data"); line 3 may add a unit prefix ("LYCDU.<tag>.MV").
+    tag = None
+    if len(first) > 1 and first[1].strip():
+        tag = first[1].strip().removesuffix(" Data").strip()
+    info = {"format": "historian", "tag": tag, "time_format": None, "declared_rows": None}
+    if len(first) > 2:
+        info["time_format"] = _time_format(first[2].strip())
+    second = lines[1].split("\t")
+    if len(second) >= 4 and second[3].strip().isdigit():
+        info["declared_rows"] = int(second[3])
+    return names, info
+
+
+def _time_format(java_format):
+    """Translate a Java-style date pattern (``yyyy-MM-dd HH:mm:ss.SSS``) to strftime."""
+    fmt = java_format
+    for a, b in (("yyyy", "%Y"), ("MM", "%m"), ("dd", "%d"), ("HH", "%H"), ("mm", "%M")):
+        fmt = fmt.replace(a, b)
+    fmt = fmt.replace("ss", "%S").replace(".SSS", ".%f").replace(",SSS", ",%f")
+    return fmt if "%" in fmt else None
+
+
+def _delimited_header(lines, notes):
+    """Separator, decimal mark, header row index, names and rows to skip after it."""
+    start = 0
+    if lines and lines[0].lstrip("\ufeff").lower().startswith("sep=") and len(lines[0]) >= 5:
+        sep, n_fields, start = lines[0].lstrip("\ufeff")[4], None, 1
+        counts = [len(_fields(ln, sep)) for ln in lines[1:] if ln.strip()]
+        n_fields = max(set(counts), key=counts.count) if counts else 1
+    else:
+        sep, n_fields = _choose_separator(lines)
+    header = None
+    for i in range(start, len(lines)):
+        line = lines[i].lstrip("\ufeff")
+        if not line.strip() or line.lstrip().startswith(_COMMENT):
+            continue
+        fields = _fields(line, sep)
+        if len(fields) != n_fields:
+            continue
+        if all(_is_number(f) for f in fields if f.strip()):
+            raise FileError("first line has no column names (it holds numbers)")
+        header = i
+        break
+    if header is None:
+        raise FileError(f"no header row of {n_fields} columns found in the first lines")
+    if header > start:
+        notes.append(f"{header - start} lines before the header skipped (titles or comments)")
+    names = [f.strip().strip("\ufeff") for f in _fields(lines[header].lstrip("\ufeff"), sep)]
+    data = [ln for ln in lines[header + 1 :] if ln.strip()]
+    fields = [f for ln in data[:200] for f in _fields(ln, sep)]
+    comma = sum(bool(re.fullmatch(r"\s*[-+]?\d*,\d+\s*", f)) for f in fields)
+    point = sum(bool(re.fullmatch(r"\s*[-+]?\d*\.\d+([eE][-+]?\d+)?\s*", f)) for f in fields)
+    decimal = "," if sep != "," and comma > point else "."
+    if decimal == ",":
+        notes.append("decimal comma")
+    skip_after = 0
+    after = next((i for i in range(header + 1, len(lines)) if lines[i].strip()), None)
+    if after is not None:
+        first = [f for f in _fields(lines[after], sep) if f.strip()]
+        if first and not any(_is_number(f) or _DATE_LIKE.search(f) for f in first):
+            skip_after = after - header  # a units or description row
+            notes.append("1 row after the header skipped (units or descriptions)")
+    return sep, decimal, header, names, skip_after
+
+
+def _open_text(path):
+    with open(path, "rb") as fh:
+        raw = fh.read(_HEAD_BYTES)
+        more = bool(fh.read(1))
+    if not raw.strip():
+        raise FileError("file is empty")
+    encoding = _encoding(raw)
+    head = codecs.getincrementaldecoder(encoding)(errors="replace").decode(raw, final=False)
+    lines = head.splitlines()
+    if more and len(lines) > 1:
+        lines = lines[:-1]  # the last line may be cut by the read size
+    notes = []
+    if encoding not in ("utf-8", "utf-8-sig"):
+        notes.append(f"encoding {encoding}")
+    if lines and lines[0].lstrip("\ufeff").startswith("PROCESSDATA"):
+        names, info = _historian_header(lines)
+        sep, decimal, skip = "\t", ".", 5
+        notes.clear()  # GB18030 descriptions are normal for these exports
+    else:
+        sep, decimal, header, names, skip_after = _delimited_header(lines, notes)
+        info = {"format": "csv", "tag": None, "time_format": None, "declared_rows": None}
+        skip = header + 1 + skip_after
+    info["notes"] = notes
+
+    def reader(positions):
+        with warnings.catch_warnings():
+            # Mixed numbers and status text in one column are expected and handled later.
+            warnings.simplefilter("ignore", pd.errors.DtypeWarning)
+            try:
+                return pd.read_csv(
+                    path, sep=sep, header=None, skiprows=skip, usecols=positions,
+                    encoding=encoding, encoding_errors="replace", decimal=decimal,
+                    skip_blank_lines=False, index_col=False, engine="c",
+                )  # fmt: skip
+            except pd.errors.EmptyDataError as exc:
+                raise FileError("file has no data rows") from exc
+            except (pd.errors.ParserError, ValueError) as exc:
+                raise FileError(f"rows could not be parsed ({exc})") from exc
+
+    return Table(names, info, reader)
+
+
+# ---- Excel and Parquet ---------------------------------------------------------------------
+
+
+def _missing_extra(kind, module):
+    return FileError(
+        f"reading {kind} files needs {module}: pip install 'sktiction[{kind}]' "
+        f"(or export the file as CSV)"
+    )
+
+
+def _open_xlsx(path):
+    try:
+        import openpyxl  # noqa: F401
+    except ImportError as exc:
+        raise _missing_extra("xlsx", "openpyxl") from exc
+    try:
+        book = pd.ExcelFile(path, engine="openpyxl")
+    except Exception as exc:  # zip or XML errors: the message is all we can pass on
+        raise FileError(f"not a readable Excel workbook ({type(exc).__name__}: {exc})") from exc
+    notes = []
+    with book:
+        sheet = None
+        for name in book.sheet_names:
+            frame = book.parse(name, header=None, dtype=object)
+            frame = frame.dropna(how="all", axis=1)
+            if frame.notna().any().any():
+                sheet = name
+                break
+    if sheet is None:
+        raise FileError("workbook holds no data")
+    if len(book.sheet_names) > 1:
+        notes.append(f"workbook has {len(book.sheet_names)} sheets: read {sheet!r} only")
+    filled = frame.iloc[:50].notna().sum(axis=1)
+    header = None
+    for i in range(len(filled)):
+        cells = [c for c in frame.iloc[i] if pd.notna(c)]
+        if len(cells) == filled.max() and any(isinstance(c, str) for c in cells):
+            header = i
+            break
+    if header is None:
+        raise FileError("no header row (a row of column names) in the first 50 rows")
+    if header:
+        notes.append(f"{header} rows above the header skipped")
+    names = ["" if pd.isna(c) else str(c).strip() for c in frame.iloc[header]]
+    body = frame.iloc[header + 1 :].reset_index(drop=True)
+    body.columns = range(body.shape[1])
+    info = {"format": "xlsx", "tag": None, "time_format": None, "declared_rows": None}
+    info["notes"] = notes
+    return Table(names, info, lambda positions: body[positions].copy())
+
+
+def _open_parquet(path):
+    try:
+        import pyarrow.parquet as pq
+    except ImportError as exc:
+        raise _missing_extra("parquet", "pyarrow") from exc
+    try:
+        names = list(pq.read_schema(path).names)
+    except Exception as exc:  # pyarrow raises its own error types for corrupt files
+        raise FileError(f"not a readable Parquet file ({type(exc).__name__}: {exc})") from exc
+
+    def reader(positions):
+        frame = pd.read_parquet(path, columns=[names[p] for p in positions])
+        frame.columns = positions
+        return frame
+
+    info = {"format": "parquet", "tag": None, "time_format": None, "declared_rows": None}
+    info["notes"] = []
+    return Table(names, info, reader)
+
+
+def open_table(path, kind):
+    """Open ``path`` as a :class:`Table` of the given kind (from :func:`file_kind`)."""
+    opener = {"text": _open_text, "xlsx": _open_xlsx, "parquet": _open_parquet}[kind]
+    return opener(Path(path))

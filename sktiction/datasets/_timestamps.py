@@ -1,0 +1,276 @@
+"""Time columns of measured loops: parse them to seconds, then put the samples on a regular grid.
+
+Numeric time columns are told apart by their range: epoch seconds, milliseconds,
+microseconds or nanoseconds between 1990 and 2100, Excel serial days in the same years
+(1900 date system) when sampled more often than daily, else seconds from any origin.
+The unit read is always named in the notes, so a wrong guess is visible and can be
+overridden with ``time_unit``.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["TIME_UNITS", "parse_times", "regularise"]
+
+TIME_UNITS = ("auto", "s", "epoch_s", "epoch_ms", "epoch_us", "epoch_ns", "excel")
+_EXCEL_ORIGIN = pd.Timestamp("1899-12-30")  # serial day 0 of Excel's 1900 date system
+_FIRST, _LAST = pd.Timestamp("1990-01-01"), pd.Timestamp("2100-01-01")
+# Seconds per unit of an epoch time stamp; ranges of 1990-2100 do not overlap between units.
+_EPOCH_SCALE = {"epoch_s": 1.0, "epoch_ms": 1e-3, "epoch_us": 1e-6, "epoch_ns": 1e-9}
+_EPOCH_NAMES = {
+    "epoch_s": "epoch seconds", "epoch_ms": "epoch milliseconds",
+    "epoch_us": "epoch microseconds", "epoch_ns": "epoch nanoseconds",
+}  # fmt: skip
+# Text formats tried after the file's own format and ISO 8601: day-first before month-first
+# (a record longer than 12 days settles the order; otherwise the ambiguity is noted).
+_TEXT_FORMATS = (
+    "%d.%m.%Y %H:%M:%S.%f", "%d.%m.%Y %H:%M:%S", "%d.%m.%Y %H:%M",
+    "%d/%m/%Y %H:%M:%S.%f", "%d/%m/%Y %H:%M:%S", "%d/%m/%Y %H:%M",
+    "%m/%d/%Y %H:%M:%S.%f", "%m/%d/%Y %H:%M:%S", "%m/%d/%Y %H:%M", "%m/%d/%Y %I:%M:%S %p",
+    "%Y/%m/%d %H:%M:%S.%f", "%Y/%m/%d %H:%M:%S", "%Y%m%d %H:%M:%S", "%H:%M:%S.%f", "%H:%M:%S",
+)  # fmt: skip
+_SAMPLE = 200  # values used to choose a text format before parsing the whole column
+
+
+class TimeError(ValueError):
+    """The time column cannot be read; the message says why."""
+
+
+def _numeric_unit(values):
+    """Unit of a numeric time column judged from its range and step (see module docstring)."""
+    finite = values[np.isfinite(values)]
+    lo, hi = float(finite.min()), float(finite.max())
+    for unit, scale in _EPOCH_SCALE.items():
+        if _FIRST.value * 1e-9 / scale <= lo and hi <= _LAST.value * 1e-9 / scale:
+            return unit
+    first = (_FIRST - _EXCEL_ORIGIN).days
+    last = (_LAST - _EXCEL_ORIGIN).days
+    if first <= lo and hi <= last and len(finite) > 1:
+        step = np.median(np.abs(np.diff(finite)))
+        if 0 < step < 1:  # sub-daily sampling expressed in days
+            return "excel"
+    return "s"
+
+
+def _numeric_times(values, unit):
+    """Seconds from the earliest value, start time, note."""
+    v = np.asarray(values, dtype=float)
+    if unit == "auto":
+        unit = _numeric_unit(v)
+    v0 = np.nanmin(v)
+    if unit == "excel":
+        # Excel stores about 15 digits: round to the millisecond so steps stay exact.
+        t = np.round((v - v0) * 86400.0, 3)
+        start = _EXCEL_ORIGIN + pd.to_timedelta(round(v0 * 86400.0, 3), unit="s")
+        return t, start, f"time read as Excel serial days (start {start})"
+    if unit in _EPOCH_SCALE:
+        scale = _EPOCH_SCALE[unit]
+        t = (v - v0) * scale
+        start = pd.Timestamp(int(round(v0 * scale * 1e9)), unit="ns")
+        return t, start, f"time read as {_EPOCH_NAMES[unit]} (start {start})"
+    return v - v0, pd.NaT, ""
+
+
+def _try_format(text, fmt, errors):
+    with warnings.catch_warnings():
+        # "Could not infer format" only concerns speed; the result is checked below.
+        warnings.simplefilter("ignore", UserWarning)
+        if fmt == "ISO8601-utc":
+            return pd.to_datetime(text, format="ISO8601", utc=True, errors=errors)
+        if fmt == "mixed":
+            return pd.to_datetime(text, format="mixed", errors=errors)
+        return pd.to_datetime(text, format=fmt, errors=errors)
+
+
+def _text_times(raw, time_format):
+    """Parse text (or datetime objects) to datetimes; return (stamps, note)."""
+    text = raw.astype(object).where(raw.notna(), None)
+    text = text.map(lambda s: s.strip() if isinstance(s, str) else s)
+    sample = text.dropna().iloc[:_SAMPLE]
+    if len(sample) == 0:
+        raise TimeError("time column is empty")
+    candidates = [f for f in (time_format, "ISO8601", "ISO8601-utc") if f]
+    candidates += [*_TEXT_FORMATS, "mixed"]
+    fits = []
+    for fmt in candidates:
+        try:
+            _try_format(sample, fmt, "raise")
+        except (ValueError, TypeError, OverflowError):
+            continue
+        fits.append(fmt)
+    if not fits:
+        raise TimeError(
+            f"values are not times (first: {sample.iloc[0]!r}); name the time column with "
+            f"channels={{'time': ...}} or remove it and pass ts="
+        )
+    notes = []
+    stamps = _try_format(text, fits[0], "coerce")
+    fmt = fits[0]
+    if "%d/%m" in fmt and any("%m/%d" in f for f in fits[1:]):
+        notes.append("dates could be day/month or month/day: read day first")
+    if getattr(stamps.dt, "tz", None) is not None:
+        stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
+        notes.append("time zone offsets converted to UTC")
+    if fmt.startswith("%H"):
+        notes.append("time of day without a date")
+    return stamps, notes
+
+
+def parse_times(raw, *, time_format=None, unit="auto"):
+    """Time column to seconds.
+
+    Parameters
+    ----------
+    raw : pandas.Series
+        Numbers, text or datetimes; missing values allowed.
+    time_format : str or None, default=None
+        strftime format declared by the file (tried first for text).
+    unit : {"auto", "s", "epoch_s", "epoch_ms", "epoch_us", "epoch_ns", "excel"}, \
+default="auto"
+        Unit of numeric times: ``"s"`` seconds from any origin, ``"epoch_*"`` seconds,
+        milliseconds, ... since 1970-01-01, ``"excel"`` Excel serial days (1900 system).
+        ``"auto"`` judges from the range (see the module docstring).
+
+    Returns
+    -------
+    t : ndarray of float
+        Seconds from the earliest time; NaN where a value is missing or not a time.
+    start : pandas.Timestamp
+        Earliest time, NaT for relative seconds.
+    notes : list of str
+        How the column was read (unit, format, conversions).
+
+    Raises
+    ------
+    TimeError
+        If no value is a time or most values are not.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from sktiction.datasets._timestamps import parse_times
+    >>> t, start, notes = parse_times(pd.Series([1.7e12, 1.7e12 + 500.0]))
+    >>> t.tolist(), str(start)
+    ([0.0, 0.5], '2023-11-14 22:13:20')
+    >>> notes[0].split(" (")[0]
+    'time read as epoch milliseconds'
+    """
+    if pd.api.types.is_datetime64_any_dtype(raw):
+        stamps, notes = pd.Series(raw), []
+        if stamps.dt.tz is not None:
+            stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
+            notes.append("time zone converted to UTC")
+    else:
+        numeric = pd.to_numeric(raw, errors="coerce") if raw.dtype.kind not in "fiu" else raw
+        present = raw.notna().to_numpy()
+        if present.any() and numeric.notna().to_numpy()[present].all():
+            t, start, note = _numeric_times(numeric.to_numpy(dtype=float), unit)
+            return t, start, [note] if note else []
+        stamps, notes = _text_times(raw, time_format)
+    ok = stamps.notna().to_numpy()
+    if ok.sum() < 0.5 * max(1, raw.notna().sum()):
+        bad = raw[raw.notna().to_numpy() & ~ok]
+        raise TimeError(f"most values are not times (first bad value: {bad.iloc[0]!r})")
+    start = stamps[ok].min()
+    t = np.full(len(stamps), np.nan)
+    t[ok] = (stamps[ok] - start).dt.total_seconds().to_numpy()
+    return t, start, notes
+
+
+def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.0):
+    """Sort, de-duplicate and resample samples onto a regular time grid.
+
+    Parameters
+    ----------
+    t : ndarray of shape (n,)
+        Seconds; no NaN.
+    values : ndarray of shape (n, k)
+        Channels sampled at ``t``.
+    hold : sequence of int, default=()
+        Columns of ``values`` held (previous sample) instead of interpolated, e.g. a mode.
+    strict : bool, default=False
+        Report irregular sampling without resampling (duplicates and unsorted rows are
+        the caller's to reject in strict mode).
+    tolerance : float, default=0.01
+        Intervals within this fraction of the median interval count as regular.
+    gap_steps : float, default=3.0
+        Intervals longer than this many median steps are time gaps: grid points inside
+        them are NaN rather than interpolated (a straight line over missing minutes would
+        invent data; :func:`sktiction._validation.repair_gaps` decides what to bridge).
+
+    Returns
+    -------
+    t : ndarray of shape (m,)
+        Regular grid (or the sorted unique times when nothing was resampled).
+    values : ndarray of shape (m, k)
+    step : float or None
+        Median interval in seconds, None with fewer than two distinct times.
+    notes : list of str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.datasets._timestamps import regularise
+    >>> t, v, step, notes = regularise(np.array([0, 10, 10, 21, 30.0]),
+    ...                                np.array([[0], [1], [9], [2], [3.0]]))
+    >>> t.tolist(), v[:, 0].round(2).tolist(), step
+    ([0.0, 10.0, 20.0, 30.0], [0.0, 1.0, 1.91, 3.0], 10.0)
+    >>> notes[0]
+    '1 duplicated timestamps: kept the first row of each'
+    """
+    notes = []
+    values = np.asarray(values, dtype=float).reshape(len(t), -1)
+    dt = np.diff(t)
+    if (dt < 0).any():
+        order = np.argsort(t, kind="stable")  # stable: file order decides among duplicates
+        notes.append(f"rows not in time order ({int((dt < 0).sum())} steps back): sorted")
+        t, values = t[order], values[order]
+        dt = np.diff(t)
+    if (dt == 0).any():
+        keep = np.concatenate([[True], dt != 0])
+        notes.append(f"{int((~keep).sum())} duplicated timestamps: kept the first row of each")
+        t, values = t[keep], values[keep]
+        dt = np.diff(t)
+    if len(t) < 2:
+        return t, values, None, notes
+    step = float(np.median(dt))
+    off = np.abs(dt - step) > tolerance * step
+    if not off.any():
+        return t, values, step, notes
+    note = (
+        f"irregular sampling: {int(off.sum())} intervals differ from {step:g} s "
+        f"(min {dt.min():g}, max {dt.max():g})"
+    )
+    if strict:
+        return t, values, step, [*notes, note]
+    n_grid = int(np.floor((t[-1] - t[0]) / step + 1e-9)) + 1
+    if n_grid > 4 * len(t):
+        raise TimeError(
+            f"{note}; the records span {t[-1] - t[0]:g} s, {n_grid} steps for {len(t)} rows: "
+            f"split the file where the time jumps, or pass ts= to ignore the timestamps"
+        )
+    grid = t[0] + step * np.arange(n_grid)
+    j = np.clip(np.searchsorted(t, grid, side="right") - 1, 0, len(t) - 2)
+    left, right = t[j], t[j + 1]
+    w = (grid - left) / (right - left)
+    out = values[j] * (1 - w)[:, None] + values[j + 1] * w[:, None]
+    # A grid point on a sample takes that sample, so a NaN neighbour does not spread.
+    at_left, at_right = w < 1e-6, w > 1 - 1e-6
+    out[at_left] = values[j[at_left]]
+    out[at_right] = values[j[at_right] + 1]
+    for col in hold:
+        out[:, col] = np.where(w > 1 - 1e-6, values[j + 1, col], values[j, col])
+    inside_gap = (right - left > gap_steps * step) & ~at_left & ~at_right
+    out[inside_gap] = np.nan
+    note += f"; resampled to {n_grid} rows at {step:g} s"
+    if inside_gap.any():
+        n_gaps = int((dt > gap_steps * step).sum())
+        note += (
+            f"; {n_gaps} time gaps longer than {gap_steps:g} steps left as NaN "
+            f"({int(inside_gap.sum())} rows)"
+        )
+    return grid, out, step, [*notes, note]
