@@ -10,7 +10,9 @@ import pandas as pd
 from sklearn.utils import Bunch
 
 EXAMPLE_FILE = "example_loops.npz"
-_EXAMPLE_ARGS = {"n_loops": 24, "n_samples": 2000, "random_state": 2024}
+# world="classic" pins the simulated world the file was made in, whatever make_loops'
+# default world becomes.
+_EXAMPLE_ARGS = {"n_loops": 24, "n_samples": 2000, "random_state": 2024, "world": "classic"}
 
 
 def load_example():
@@ -22,6 +24,15 @@ def load_example():
         ``X`` float array (24, 2000, 3) with channels PV, OP, SP; ``y`` int (1 =
         stiction); ``meta`` a DataFrame with one row per loop (cause, plant, valve,
         controller, Ts, effects), as returned by ``make_loops(..., return_meta=True)``.
+
+    Notes
+    -----
+    The file holds ``make_loops(24, 2000, world="classic", random_state=2024)`` in
+    float32. Regenerating it on another machine gives the same loops up to float
+    rounding, except that a loop with a sticky valve may drift out of phase: the
+    last bit of ``numpy.exp``/``numpy.log`` depends on the CPU (numpy picks SIMD
+    code at run time), and a stick-slip valve turns a one-ulp difference into a
+    slip one sample earlier or later. Such a loop keeps its amplitude and period.
 
     Examples
     --------
