@@ -1,69 +1,361 @@
-"""Command line: ``sktiction demo`` and ``sktiction scan FILES``."""
+"""Command line: ``sktiction scan``, ``sktiction demo`` and ``sktiction compare``.
+
+Exit codes (``sktiction scan``):
+
+- ``0``: every file was read and every loop scanned (a loop may still get
+  ``no_verdict`` with its reason: that is an answer, not a failure);
+- ``1``: some files or loops could not be read; the others were scanned, and the
+  table and the output name each failure with its reason;
+- ``2``: usage error, a path that does not exist, or no file could be read at all.
+  These exit at once, before any model is trained or loaded.
+
+Environment: ``SKTICTION_TRAIN_LOOPS`` and ``SKTICTION_TRAIN_SAMPLES`` set the size of
+the simulated training set of the learned classifier (for quick trials and tests; the
+defaults are those of :func:`sktiction.pretrained_classifier`).
+"""
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-SUMMARY_COLUMNS = [
+EXIT_OK = 0
+EXIT_READ_FAILURES = 1
+EXIT_USAGE = 2
+
+FORMATS = ("csv", "parquet", "json")
+CHANNEL_KEYS = ("pv", "op", "sp", "time", "mode")
+
+# What the console shows, in this order, when the report has it.
+TABLE_COLUMNS = [
+    "file",
+    "tag",
+    "read",
     "verdict",
     "stiction_probability",
-    "area_ratio",
-    "shape_confidence",
     "stiction_size_mean",
-    "n_cycles",
+    "period",
+    "area_ratio",
     "reason",
 ]
 
 
-def _print_table(df, columns):
-    with pd.option_context("display.width", 160, "display.max_columns", 20,
-                           "display.float_format", "{:.2f}".format):
-        print(df[columns].to_string())
+class UsageError(Exception):
+    """A problem the user can fix on the command line (exit code 2)."""
+
+
+def _parse_channels(text):
+    """``pv=COL,op=COL,sp=COL`` -> dict; a clear message for anything else."""
+    if text is None:
+        return None
+    out = {}
+    for part in text.split(","):
+        key, sep, value = part.partition("=")
+        key, value = key.strip().lower(), value.strip()
+        if not sep or not value:
+            raise UsageError(
+                f"--channels: expected NAME=COLUMN pairs like pv=FIC101.PV,op=FIC101.OP; "
+                f"got {part!r}."
+            )
+        if key not in CHANNEL_KEYS:
+            raise UsageError(
+                f"--channels: unknown channel {key!r}; use {', '.join(CHANNEL_KEYS)}."
+            )
+        out[key] = value
+    return out
+
+
+def _output_format(args):
+    fmt = args.format
+    if fmt is None and args.output:
+        suffix = Path(args.output).suffix.lower().lstrip(".")
+        fmt = suffix if suffix in FORMATS else "csv"
+    fmt = fmt or "csv"
+    if fmt == "parquet":
+        try:
+            import pyarrow  # noqa: F401
+        except ImportError as exc:
+            raise UsageError(
+                "--format parquet needs pyarrow: pip install pyarrow (or use csv or json)."
+            ) from exc
+    return fmt
+
+
+def _write_table(report, path, fmt):
+    if fmt == "parquet":
+        report.to_parquet(path, index=False)
+    elif fmt == "json":
+        report.to_json(path, orient="records", indent=1, date_format="iso")
+    else:
+        report.to_csv(path, index=False)
+
+
+def _classifier():
+    """The learned classifier; its training set size can be set from the environment."""
+    from . import pretrained_classifier
+
+    kwargs = {}
+    for env, key in (("SKTICTION_TRAIN_LOOPS", "n_loops"), ("SKTICTION_TRAIN_SAMPLES",
+                                                             "n_samples")):
+        if os.environ.get(env):
+            kwargs[key] = int(os.environ[env])
+    return pretrained_classifier(random_state=0, **kwargs)
+
+
+def _list_files(paths):
+    """Every file under the paths: DataFrame(path, supported, reason)."""
+    from . import datasets
+
+    lister = getattr(datasets, "list_loop_files", None)
+    if lister is not None:
+        return lister(paths)
+    from .datasets._measured import _expand_paths
+
+    files = _expand_paths(paths)
+    return pd.DataFrame(
+        {"path": [str(p) for p in files], "supported": True, "reason": ""}
+    )
+
+
+def _read_all(paths, ts, channels):
+    """Read every file: (X, meta) with one row per loop or unreadable file."""
+    from . import datasets
+
+    reader = getattr(datasets, "read_loop_file", None)
+    listing = _list_files(paths)
+    if reader is None:
+        data = datasets.read_loops(paths, ts=ts, channels=channels, on_error="skip")
+        return data.X, data.meta, listing
+    Xs, metas = [], []
+    for row in listing.itertuples():
+        if not row.supported:
+            metas.append(pd.DataFrame([{
+                "file": Path(row.path).name, "path": row.path, "tag": "",
+                "status": "unsupported", "reason": row.reason, "n_samples": 0,
+            }]))
+            Xs.append(np.full((1, 1, 3), np.nan))
+            continue
+        part = reader(row.path, channels=channels, ts=ts)
+        metas.append(part.meta)
+        Xs.append(part.X if len(part.X) else np.full((len(part.meta), 1, 3), np.nan))
+    if not metas:
+        return np.full((0, 1, 3), np.nan), pd.DataFrame(columns=["file", "status"]), listing
+    n = max(x.shape[1] for x in Xs)
+    X = np.concatenate(
+        [np.pad(x, ((0, 0), (0, n - x.shape[1]), (0, 0)), constant_values=np.nan) for x in Xs]
+    )
+    return X, pd.concat(metas, ignore_index=True), listing
+
+
+def _read_status(report):
+    """Per-row reader status: ``ok`` or why the file or loop could not be read."""
+    for col in ("input_status", "read_status"):
+        if col in report:
+            return report[col].fillna("ok").astype(str)
+    if "status" in report:
+        # scan_files rows: reader failures carry the reader's status
+        return report["status"].fillna("ok").astype(str).where(
+            ~report["status"].isin(["ok", "no_verdict"]), "ok"
+        )
+    return pd.Series("ok", index=report.index)
+
+
+def _console_table(report):
+    """File, tag, reader status, verdict and one reason per row, for people."""
+    table = pd.DataFrame(index=report.index)
+    table["file"] = report["file"] if "file" in report else ""
+    table["tag"] = report["tag"].fillna("").astype(str) if "tag" in report else ""
+    table["read"] = _read_status(report)
+    for col in TABLE_COLUMNS[3:-1]:
+        if col in report:
+            table[col] = report[col]
+    reason = report["reason"].fillna("").astype(str) if "reason" in report else ""
+    if "input_reason" in report:
+        notes = report["input_reason"].fillna("").astype(str)
+        failed = table["read"] != "ok"
+        reason = np.where(failed, notes, np.where(notes != "", reason + "; " + notes, reason))
+    table["reason"] = reason
+    table = table.rename(columns={"stiction_probability": "p_stiction",
+                                  "stiction_size_mean": "size_%"})
+    return table
+
+
+def _print_table(table, file=None):
+    with pd.option_context("display.width", 200, "display.max_columns", 20,
+                           "display.max_colwidth", 70, "display.float_format",
+                           "{:.2f}".format):
+        print(table.to_string(index=False), file=file)
+
+
+def _scan(args):
+    channels = _parse_channels(args.channels)
+    fmt = _output_format(args)
+    missing = [p for p in args.paths if not Path(p).exists()]
+    if missing:
+        raise UsageError("no such file or folder: " + ", ".join(missing))
+    listing = _list_files(args.paths)
+    if not listing["supported"].any():
+        _print_table(listing.assign(file=listing["path"])[["file", "reason"]])
+        raise UsageError(f"no loop file found under {', '.join(args.paths)} (listed above).")
+    client = None
+    if args.scheduler:
+        from . import reports
+
+        if not hasattr(reports, "scan_files"):
+            raise UsageError("--scheduler needs sktiction.reports.scan_files (not available "
+                             "in this version); drop --scheduler or use --n-jobs.")
+        try:
+            from dask.distributed import Client
+        except ImportError as exc:
+            raise UsageError("--scheduler needs dask.distributed: pip install "
+                             "'dask[distributed]'.") from exc
+        client = Client(args.scheduler)
+
+    # Read everything first: nothing readable means no model is trained at all.
+    X, meta, _ = _read_all(args.paths, args.ts, channels)
+    readable = meta["status"].astype(str).eq("ok").to_numpy()
+    if not readable.any():
+        table = meta.reindex(columns=["file", "tag", "status", "reason"]).fillna("")
+        _print_table(table, file=sys.stderr)
+        raise UsageError("no file could be read (reasons above).")
+
+    from .reports import scan_loops
+
+    classifier = _classifier()
+    report = scan_loops(X, meta, classifier=classifier, n_jobs=args.n_jobs,
+                        progress=not args.quiet)
+    if client is not None:
+        client.close()
+    if args.output:
+        _write_table(report, args.output, fmt)
+        print(f"wrote {len(report)} rows to {args.output} ({fmt})", file=sys.stderr)
+    if args.report:
+        from .reports.html import write_html_report
+
+        write_html_report(report, X, path=args.report, title="sktiction scan")
+        print(f"wrote the HTML report to {args.report}", file=sys.stderr)
+    table = _console_table(report)
+    _print_table(table)
+    failed = int((table["read"] != "ok").sum())
+    if failed:
+        print(f"\n{failed} of {len(table)} files or loops could not be read (see 'read' and "
+              f"'reason'); exit code {EXIT_READ_FAILURES}.", file=sys.stderr)
+        return EXIT_READ_FAILURES
+    return EXIT_OK
 
 
 def _demo(args):
-    from . import pretrained_classifier
     from .datasets import load_example
     from .reports import scan_loops
 
     data = load_example()
-    t0 = time.perf_counter()
-    clf = pretrained_classifier(random_state=0)
-    t1 = time.perf_counter()
-    report = scan_loops(data.X, data.meta[["cause"]], classifier=clf)
-    t2 = time.perf_counter()
-    print(f"sktiction demo: {len(data.X)} simulated loops shipped with the package "
-          f"(causes known)\n")
-    _print_table(report, ["cause", *SUMMARY_COLUMNS])
-    found = report["verdict"].eq("stiction").to_numpy()
+    X, meta = data.X, data.meta[["cause"]].assign(source="simulated")
+    meta.insert(0, "file", [f"simulated_{i:02d}" for i in range(len(X))])
+    meta["tag"] = meta["cause"]
     truth = data.y.astype(bool)
-    print(f"\nstiction found in {found.sum()} loops; {np.sum(found & truth)} of {truth.sum()} "
-          f"sticky loops caught, {np.sum(found & ~truth)} false alarms.")
-    print(f"trained the learned classifier on simulated loops in {t1 - t0:.1f} s; "
-          f"scanned {len(data.X)} loops in {t2 - t1:.2f} s.")
-    return 0
+    try:
+        from .datasets._plant_examples import load_plant_examples
+
+        plant = load_plant_examples()
+    except (ImportError, FileNotFoundError):
+        plant = None
+    if plant is not None:
+        pmeta = plant.meta.assign(source="plant", cause=plant.meta["label"])
+        pmeta = pmeta[["file", "tag", "cause", "source"]]
+        n = max(X.shape[1], plant.X.shape[1])
+        pad = lambda a: np.pad(a, ((0, 0), (0, n - a.shape[1]), (0, 0)),  # noqa: E731
+                               constant_values=np.nan)
+        X = np.concatenate([pad(X), pad(plant.X)])
+        meta = pd.concat([meta, pmeta], ignore_index=True)
+        truth = np.concatenate([truth, plant.y.astype(bool)])
+    t0 = time.perf_counter()
+    clf = _classifier()
+    t1 = time.perf_counter()
+    report = scan_loops(X, meta, classifier=clf)
+    t2 = time.perf_counter()
+    n_sim = int((meta["source"] == "simulated").sum())
+    print(f"sktiction demo: {n_sim} simulated loops and {len(X) - n_sim} real plant windows "
+          f"shipped with the package (causes known)\n")
+    table = _console_table(report)
+    table.insert(2, "cause", meta["cause"].to_numpy())
+    _print_table(table.drop(columns=["read"]))
+    found = report["verdict"].eq("stiction").to_numpy()
+    for source in ("simulated", "plant"):
+        s = (meta["source"] == source).to_numpy()
+        if s.any():
+            print(f"\n{source}: stiction found in {found[s].sum()} of {s.sum()} loops; "
+                  f"{np.sum(found & truth & s)} of {np.sum(truth & s)} sticky loops caught, "
+                  f"{np.sum(found & ~truth & s)} false alarms.", end="")
+    print(f"\n\nlearned classifier ready in {t1 - t0:.1f} s; scanned {len(X)} loops in "
+          f"{t2 - t1:.2f} s.")
+    if args.report:
+        from .reports.html import write_html_report
+
+        write_html_report(report, X, path=args.report, title="sktiction demo")
+        print(f"wrote the HTML report to {args.report}")
+    return EXIT_OK
 
 
-def _scan(args):
-    from . import pretrained_classifier
-    from .datasets import read_loops
-    from .reports import scan_loops
+def _compare(args):
+    try:
+        from .realism import _cli as realism_cli
+    except ImportError as exc:
+        raise UsageError(f"sktiction compare is not available in this version ({exc}).") from exc
+    return realism_cli.run_compare(args)
 
-    data = read_loops(args.paths, ts=args.ts, on_error="skip")
-    report = scan_loops(
-        data.X, data.meta, classifier=pretrained_classifier(random_state=0),
-        n_jobs=args.n_jobs, progress=not args.quiet,
+
+def _add_compare(sub):
+    try:
+        from .realism import _cli as realism_cli
+    except ImportError:
+        realism_cli = None
+    if realism_cli is not None and hasattr(realism_cli, "add_compare_parser"):
+        parser = realism_cli.add_compare_parser(sub)
+    else:
+        parser = sub.add_parser("compare", help="compare measured loops with the simulated "
+                                "world (needs sktiction.realism)")
+        parser.add_argument("measured", nargs="*", help="folder of measured loops")
+    parser.set_defaults(func=_compare)
+
+
+def build_parser():
+    """The argument parser of the ``sktiction`` command."""
+    parser = argparse.ArgumentParser(
+        prog="sktiction",
+        description="Is this control loop oscillating because its valve sticks?",
+        epilog="Exit codes: 0 all files read and scanned; 1 some files or loops could not "
+               "be read (each named with its reason); 2 usage error, missing path, or no "
+               "file readable (before any model is trained).",
     )
-    if args.output:
-        report.to_csv(args.output, index=False)
-        print(f"wrote {len(report)} rows to {args.output}", file=sys.stderr)
-    _print_table(report.set_index("tag") if "tag" in report else report, SUMMARY_COLUMNS)
-    return 0
+    sub = parser.add_subparsers(dest="command", required=True)
+    demo = sub.add_parser("demo", help="scan the example loops shipped with sktiction "
+                          "(simulated and real plant windows) and write an HTML report")
+    demo.add_argument("--report", default="sktiction_demo.html",
+                      help="HTML report to write (default: %(default)s; '' for none)")
+    demo.set_defaults(func=_demo)
+    scan = sub.add_parser("scan", help="scan historian exports or CSV files")
+    scan.add_argument("paths", nargs="+", help="files or folders")
+    scan.add_argument("-o", "--output", help="write the full report to this file")
+    scan.add_argument("--format", choices=FORMATS, default=None,
+                      help="format of --output (default: from its suffix, else csv)")
+    scan.add_argument("--report", help="also write a self-contained HTML report here")
+    scan.add_argument("--channels", help="column names, e.g. pv=FIC101.PV,op=FIC101.OP,"
+                      "sp=FIC101.SP (also time=..., mode=...)")
+    scan.add_argument("--ts", type=float, default=None,
+                      help="sampling time in seconds, for files without a time column")
+    scan.add_argument("-j", "--n-jobs", type=int, default=None, help="parallel workers")
+    scan.add_argument("--scheduler", default=None,
+                      help="address of a dask.distributed scheduler to scan on")
+    scan.add_argument("-q", "--quiet", action="store_true", help="no progress output")
+    scan.set_defaults(func=_scan)
+    _add_compare(sub)
+    return parser
 
 
 def main(argv=None):
@@ -77,25 +369,25 @@ def main(argv=None):
     Returns
     -------
     code : int
-        Exit status.
+        Exit status: 0 all read and scanned, 1 some files or loops could not be
+        read, 2 usage error or nothing readable.
+
+    Examples
+    --------
+    >>> from sktiction.cli import main
+    >>> main(["scan", "no/such/folder"])  # the message goes to standard error
+    2
     """
-    parser = argparse.ArgumentParser(
-        prog="sktiction",
-        description="Is this control loop oscillating because its valve sticks?",
-    )
-    sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="scan the simulated example loops shipped with sktiction")
-    demo.set_defaults(func=_demo)
-    scan = sub.add_parser("scan", help="scan historian exports or CSV files, one loop each")
-    scan.add_argument("paths", nargs="+", help="files or folders (.txt historian, .csv)")
-    scan.add_argument("-o", "--output", help="write the full report to this CSV file")
-    scan.add_argument("--ts", type=float, default=None,
-                      help="sampling time in seconds, for files without a time column")
-    scan.add_argument("-j", "--n-jobs", type=int, default=None, help="parallel workers")
-    scan.add_argument("-q", "--quiet", action="store_true", help="no progress output")
-    scan.set_defaults(func=_scan)
-    args = parser.parse_args(argv)
-    return args.func(args)
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse has printed its message
+        return int(exc.code or 0)
+    try:
+        return args.func(args)
+    except UsageError as exc:
+        print(f"sktiction: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
 
 
 if __name__ == "__main__":

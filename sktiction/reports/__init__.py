@@ -1,6 +1,7 @@
 """Reports: batch scans of many loops and plots of one loop's cycles."""
 
+from .html import write_html_report
 from .plots import plot_loop
 from .scan import scan_loops
 
-__all__ = ["plot_loop", "scan_loops"]
+__all__ = ["plot_loop", "scan_loops", "write_html_report"]

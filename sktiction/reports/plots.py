@@ -7,7 +7,7 @@ import numpy as np
 from .._validation import OP, PV, SP, check_loops, loop_lengths
 
 
-def plot_loop(X, *, loop=0, ts=1.0, templates=None, ax=None, title=None):
+def plot_loop(X, *, loop=0, ts=1.0, templates=None, ax=None, title=None, cycles=None):
     """Plot PV, SP and OP of one loop with each analysed cycle and its best shapes.
 
     Cycles found by :class:`~sktiction.TemplateDistances` are shaded, alternately,
@@ -28,6 +28,9 @@ def plot_loop(X, *, loop=0, ts=1.0, templates=None, ax=None, title=None):
         Axes for PV/SP and for OP; ``None`` makes a new figure.
     title : str or None, default=None
         Figure title.
+    cycles : pandas.DataFrame or None, default=None
+        This loop's rows of :meth:`~sktiction.TemplateDistances.cycle_table`, if
+        already computed; ``None`` computes them.
 
     Returns
     -------
@@ -61,8 +64,10 @@ def plot_loop(X, *, loop=0, ts=1.0, templates=None, ax=None, title=None):
         ax[0].plot(t, one[0, :n, SP], lw=0.9, ls="--", label="SP")
     ax[1].plot(t, one[0, :n, OP], lw=0.9, color="C2", label="OP")
     matcher = templates if templates is not None else TemplateDistances()
-    if not np.isnan(one[0, :n, OP]).all():
+    table = cycles
+    if table is None and not np.isnan(one[0, :n, OP]).all():
         table = matcher.fit(one).cycle_table(one)
+    if table is not None:
         for k, row in enumerate(table.itertuples()):
             for a in ax:
                 a.axvspan(row.start * ts, row.end * ts, alpha=0.08 if k % 2 else 0.16, color="C1")
@@ -78,3 +83,158 @@ def plot_loop(X, *, loop=0, ts=1.0, templates=None, ax=None, title=None):
     if title:
         ax[0].set_title(title)
     return ax
+
+
+def loop_cycles(X, *, loop=0, templates=None):
+    """The cycle table of one loop (empty when it has no analysed cycle or no OP).
+
+    Parameters
+    ----------
+    X : array-like of shape (n_loops, n_samples, n_channels)
+        Loops, channels PV, OP, SP.
+    loop : int, default=0
+        Which loop.
+    templates : TemplateDistances or None, default=None
+        Matcher; ``None`` uses the default one.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        Rows of :meth:`~sktiction.TemplateDistances.cycle_table` for that loop.
+    """
+    import pandas as pd
+
+    from ..features import TemplateDistances
+
+    one = check_loops(X)[loop : loop + 1]
+    if np.isnan(one[0, :, OP]).all() or np.isnan(one[0, :, PV]).all():
+        return pd.DataFrame()
+    matcher = templates if templates is not None else TemplateDistances()
+    return matcher.fit(one).cycle_table(one)
+
+
+def plot_pv_op(X, *, loop=0, ax=None, cycles=None):
+    """Plot PV against OP: a sticky valve draws parallelograms, a healthy loop ellipses.
+
+    Parameters
+    ----------
+    X : array-like of shape (n_loops, n_samples, n_channels)
+        Loops, channels PV, OP, SP.
+    loop : int, default=0
+        Which loop.
+    ax : matplotlib Axes or None, default=None
+        Where to draw; ``None`` makes a new figure.
+    cycles : pandas.DataFrame or None, default=None
+        The loop's cycle table; the analysed cycles are drawn darker.
+
+    Returns
+    -------
+    ax : matplotlib Axes
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from sktiction.datasets import make_loops
+    >>> from sktiction.reports.plots import plot_pv_op
+    >>> X, _ = make_loops(1, n_samples=600, random_state=0)
+    >>> plot_pv_op(X).get_xlabel()
+    'OP'
+    """
+    import matplotlib.pyplot as plt
+
+    one = check_loops(X)[loop]
+    n = int(loop_lengths(one[None])[0])
+    if ax is None:
+        _, ax = plt.subplots(figsize=(4, 4))
+    op, pv = one[:n, OP], one[:n, PV]
+    ax.plot(op, pv, lw=0.5, color="0.6")
+    if cycles is not None and len(cycles):
+        a, b = int(cycles["start"].min()), int(cycles["end"].max())
+        ax.plot(op[a:b], pv[a:b], lw=0.8, color="C0", label="analysed cycles")
+        ax.legend(loc="best", fontsize=7)
+    ax.set_xlabel("OP")
+    ax.set_ylabel("PV")
+    ax.set_title("PV against OP", fontsize=9)
+    return ax
+
+
+def plot_area_ratios(cycles, *, ax=None, margin=0.5):
+    """Bar chart of the area ratio R of each cycle (Singhal & Salsbury 2005).
+
+    Parameters
+    ----------
+    cycles : pandas.DataFrame
+        A cycle table with column ``area_ratio``.
+    ax : matplotlib Axes or None, default=None
+        Where to draw; ``None`` makes a new figure.
+    margin : float, default=0.5
+        Stiction when R > 1 + margin: the line drawn.
+
+    Returns
+    -------
+    ax : matplotlib Axes
+    """
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(4, 3))
+    if cycles is not None and len(cycles) and "area_ratio" in cycles:
+        r = cycles["area_ratio"].to_numpy(dtype=float)
+        ax.bar(np.arange(1, len(r) + 1), r, color=np.where(r > 1 + margin, "C3", "C0"))
+        ax.axhline(1.0 + margin, color="C3", lw=0.8, ls="--", label=f"R = {1 + margin:g}")
+        ax.axhline(1.0, color="0.5", lw=0.6)
+        ax.legend(loc="best", fontsize=7)
+    else:
+        ax.text(0.5, 0.5, "no analysed cycle", ha="center", va="center",
+                transform=ax.transAxes, fontsize=9, color="0.4")
+    ax.set_xlabel("cycle")
+    ax.set_ylabel("R")
+    ax.set_title("area ratio R per cycle", fontsize=9)
+    return ax
+
+
+def plot_loop_summary(X, *, loop=0, ts=1.0, title=None, cycles=None):
+    """One figure per loop: trend with cycles and shapes, PV against OP, R per cycle.
+
+    Parameters
+    ----------
+    X : array-like of shape (n_loops, n_samples, n_channels)
+        Loops, channels PV, OP, SP.
+    loop : int, default=0
+        Which loop.
+    ts : float, default=1.0
+        Sampling time, for the time axis.
+    title : str or None, default=None
+        Figure title.
+    cycles : pandas.DataFrame or None, default=None
+        The loop's cycle table; ``None`` computes it (:func:`loop_cycles`).
+
+    Returns
+    -------
+    fig : matplotlib Figure
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from sktiction.datasets import make_loops
+    >>> from sktiction.reports.plots import plot_loop_summary
+    >>> X, _ = make_loops(1, n_samples=800, random_state=0)
+    >>> len(plot_loop_summary(X).axes)
+    4
+    """
+    import matplotlib.pyplot as plt
+
+    if cycles is None:
+        cycles = loop_cycles(X, loop=loop)
+    fig = plt.figure(figsize=(12, 4.2), layout="constrained")
+    grid = fig.add_gridspec(2, 3, width_ratios=[3.2, 1.2, 1.2])
+    trend = fig.add_subplot(grid[0, 0])
+    op_ax = fig.add_subplot(grid[1, 0], sharex=trend)
+    plot_loop(X, loop=loop, ts=ts, ax=[trend, op_ax], cycles=cycles)
+    plot_pv_op(X, loop=loop, ax=fig.add_subplot(grid[:, 1]), cycles=cycles)
+    plot_area_ratios(cycles, ax=fig.add_subplot(grid[:, 2]))
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return fig

@@ -1,0 +1,259 @@
+"""One self-contained HTML report of a scan: a sortable table and a figure per loop.
+
+Everything is inside the one file (figures as base64 PNG, the sorting script inline), so
+it can be mailed, archived or opened offline; nothing is fetched from the network.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .._validation import check_loops
+
+# (report column, header, how to show it)
+TABLE_COLUMNS = (
+    ("file", "file", "text"),
+    ("tag", "tag", "text"),
+    ("verdict", "verdict", "text"),
+    ("stiction_probability", "p(stiction)", "prob"),
+    ("stiction_size_mean", "stiction size, % travel", "num1"),
+    ("period", "period", "num1"),
+    ("area_ratio", "area ratio", "num2"),
+    ("status", "status", "text"),
+    ("reason", "reason", "text"),
+)
+
+_CSS = """
+body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;margin:1.5em;color:#222}
+h1{font-size:1.4em;margin-bottom:.2em} h2{font-size:1.1em;margin:1.6em 0 .3em}
+.summary{color:#555;margin-bottom:1em}
+table{border-collapse:collapse;font-size:.86em}
+th,td{padding:.25em .6em;border-bottom:1px solid #ddd;text-align:left;vertical-align:top}
+th{background:#f3f4f6;cursor:pointer;user-select:none;position:sticky;top:0}
+th.sorted-asc::after{content:" \\25B2"} th.sorted-desc::after{content:" \\25BC"}
+td.num{text-align:right;font-variant-numeric:tabular-nums}
+tr.stiction td.verdict{color:#b91c1c;font-weight:600}
+tr.no_stiction td.verdict{color:#15803d}
+tr.no_verdict td.verdict{color:#6b7280}
+.loop{border-top:1px solid #ccc;margin-top:1.2em}
+.loop img{max-width:100%;height:auto}
+.note{color:#6b7280;font-style:italic}
+"""
+
+# Sort on click; numbers by their data-value. It also marks the page ready for tests.
+_JS = """
+(function(){
+  var table=document.getElementById('loops');
+  var heads=table.tHead.rows[0].cells;
+  function key(td){var v=td.getAttribute('data-value');
+    if(v!==null&&v!==''){return parseFloat(v);} return td.textContent.toLowerCase();}
+  function sortBy(col){
+    var body=table.tBodies[0]; var rows=Array.prototype.slice.call(body.rows);
+    var th=heads[col]; var asc=!th.classList.contains('sorted-asc');
+    for(var i=0;i<heads.length;i++){heads[i].classList.remove('sorted-asc','sorted-desc');}
+    th.classList.add(asc?'sorted-asc':'sorted-desc');
+    rows.sort(function(a,b){var x=key(a.cells[col]),y=key(b.cells[col]);
+      var nx=(typeof x==='number'&&!isNaN(x)),ny=(typeof y==='number'&&!isNaN(y));
+      if(nx!==ny){return nx?-1:1;}
+      if(x<y){return asc?-1:1;} if(x>y){return asc?1:-1;} return 0;});
+    rows.forEach(function(r){body.appendChild(r);});
+  }
+  for(var i=0;i<heads.length;i++){(function(c){heads[c].addEventListener('click',
+    function(){sortBy(c);});})(i);}
+  function check(){
+    var pics=document.images, ok=0;
+    for(var i=0;i<pics.length;i++){if(pics[i].complete&&pics[i].naturalWidth>0){ok++;}}
+    document.body.setAttribute('data-images-ok',String(ok));
+    document.body.setAttribute('data-rows',String(table.tBodies[0].rows.length));
+    document.body.setAttribute('data-ready','1');
+  }
+  if(document.readyState==='complete'){check();}else{window.addEventListener('load',check);}
+})();
+"""
+
+
+def _fmt(value, kind):
+    """(text shown, data-value for sorting) of one cell."""
+    if kind == "text":
+        text = "" if value is None or (isinstance(value, float) and np.isnan(value)) else value
+        return html.escape(str(text)), ""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        return html.escape(str(value)), ""
+    if not np.isfinite(x):
+        return "", ""
+    shown = {"prob": f"{x:.2f}", "num1": f"{x:.1f}", "num2": f"{x:.2f}"}[kind]
+    return shown, repr(x)
+
+
+def _figure_png(fig, dpi):
+    import matplotlib.pyplot as plt
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=dpi)
+    plt.close(fig)
+    return base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _label(report, i):
+    for col in ("tag", "file"):
+        if col in report and isinstance(report[col].iloc[i], str) and report[col].iloc[i]:
+            return report[col].iloc[i]
+    return f"loop {i}"
+
+
+def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
+                      title="sktiction report", max_figures=200, dpi=72):
+    """Write a scan report as ONE self-contained HTML file people would rather read.
+
+    A sortable table of loops (click a header to sort: verdict, probability of
+    stiction, stiction size in % of valve travel, oscillation period, area ratio,
+    status and reason), then for each loop a figure: the trend of PV, SP and OP
+    with the detected cycles shaded and the matched OP/PV templates named on each
+    cycle, PV against OP, and the area ratio R of each cycle. Figures are base64
+    PNG and the sorting script is inline: the file needs no network.
+
+    Parameters
+    ----------
+    report : pandas.DataFrame
+        One row per loop, e.g. from :func:`~sktiction.reports.scan_loops`; columns
+        it lacks are left out of the table (``file`` and ``tag`` name the rows).
+    X : array-like of shape (n_loops, n_samples, n_channels) or None, default=None
+        The loops of the report, in its order, for the figures; ``None`` writes the
+        table only.
+    path : str or Path, default="sktiction_report.html"
+        Where to write.
+    ts : float, array-like of shape (n_loops,) or None, default=None
+        Sampling time of each loop for the time axes; ``None`` takes the report's
+        ``ts`` (or ``input_ts``) column, else 1.
+    title : str, default="sktiction report"
+        Page title.
+    max_figures : int, default=200
+        Figures for at most this many loops (sticky verdicts first), so the file
+        stays small for plant-wide scans; the table always lists every loop.
+    dpi : int, default=72
+        Resolution of the figures.
+
+    Returns
+    -------
+    path : Path
+        The file written.
+
+    Examples
+    --------
+    >>> import tempfile, matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import pandas as pd
+    >>> from sktiction.datasets import make_loops
+    >>> from sktiction.reports.html import write_html_report
+    >>> X, _ = make_loops(2, n_samples=600, random_state=0)
+    >>> report = pd.DataFrame({"tag": ["FIC1", "FIC2"], "verdict": ["stiction", "no_stiction"]})
+    >>> out = write_html_report(report, X, path=tempfile.mktemp(suffix=".html"))
+    >>> text = out.read_text()
+    >>> text.count("<img"), "FIC2" in text
+    (2, True)
+    """
+    import matplotlib
+
+    report = report.reset_index(drop=True)
+    n = len(report)
+    loops = None
+    if X is not None:
+        loops = check_loops(X)
+        if len(loops) != n:
+            raise ValueError(f"X has {len(loops)} loops but the report has {n} rows; "
+                             "they must match.")
+    if ts is None:
+        for col in ("ts", "input_ts"):
+            if col in report:
+                ts = report[col].to_numpy(dtype=float)
+                break
+    ts = np.broadcast_to(np.asarray(1.0 if ts is None else ts, dtype=float), (n,))
+    ts = np.where(np.isfinite(ts) & (ts > 0), ts, 1.0)
+
+    # Figures first: their cycle tables also give each loop's period when the report has none.
+    figures = {}
+    periods = np.full(n, np.nan)
+    if loops is not None:
+        from .plots import loop_cycles, plot_loop_summary
+
+        verdict = report["verdict"] if "verdict" in report else pd.Series("", index=report.index)
+        order = np.argsort(~verdict.eq("stiction").to_numpy(), kind="stable")[:max_figures]
+        with matplotlib.rc_context({"font.size": 8}):
+            for i in order:
+                if np.isnan(loops[i, :, 0]).all():
+                    figures[i] = None
+                    continue
+                try:
+                    cycles = loop_cycles(loops, loop=i)
+                    if len(cycles) and "period" in cycles:
+                        periods[i] = float(np.median(cycles["period"])) * ts[i]
+                    fig = plot_loop_summary(loops, loop=i, ts=ts[i], cycles=cycles,
+                                            title=_label(report, i))
+                    figures[i] = _figure_png(fig, dpi)
+                except Exception as exc:  # noqa: BLE001 - a figure must not stop the report
+                    figures[i] = f"error: {type(exc).__name__}: {exc}"
+    table = report.copy()
+    if "period" not in table:
+        table["period"] = periods
+    if "status" not in table and "input_status" in table:
+        table["status"] = table["input_status"]
+
+    cols = [c for c in TABLE_COLUMNS if c[0] in table]
+    head = "".join(f"<th>{html.escape(h)}</th>" for _, h, _ in cols)
+    body = []
+    for i in range(n):
+        verdict = str(table["verdict"].iloc[i]) if "verdict" in table else ""
+        cells = []
+        for col, _, kind in cols:
+            shown, value = _fmt(table[col].iloc[i], kind)
+            if col in ("file", "tag") and i in figures:
+                shown = f'<a href="#loop-{i}">{shown}</a>'
+            cls = f' class="{col}"' if kind == "text" else ' class="num"'
+            val = f' data-value="{value}"' if value else ""
+            cells.append(f"<td{cls}{val}>{shown}</td>")
+        body.append(f'<tr class="{html.escape(verdict)}" id="row-{i}">{"".join(cells)}</tr>')
+
+    counts = table["verdict"].value_counts() if "verdict" in table else pd.Series(dtype=int)
+    summary = ", ".join(f"{v}: {int(c)}" for v, c in counts.items())
+    sections = []
+    for i, png in figures.items():
+        name = html.escape(_label(report, i))
+        verdict = html.escape(str(table["verdict"].iloc[i])) if "verdict" in table else ""
+        reason = html.escape(str(table["reason"].iloc[i])) if "reason" in table else ""
+        if png is None or png.startswith("error:"):
+            inner = f'<p class="note">no figure: {html.escape(png or "no data")}</p>'
+        else:
+            inner = (f'<img alt="PV, SP and OP of {name} with its cycles, PV against OP and '
+                     f'R per cycle" src="data:image/png;base64,{png}">')
+        sections.append(
+            f'<section class="loop" id="loop-{i}"><h2>{name}: {verdict}</h2>'
+            f'<p class="summary">{reason}</p>{inner}</section>'
+        )
+    page = f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>{html.escape(title)}</title><style>{_CSS}</style></head>
+<body>
+<h1>{html.escape(title)}</h1>
+<p class="summary">{n} loops. {html.escape(summary)}. Click a column header to sort; click a
+file or tag to see its figure: PV, SP and OP with the analysed cycles shaded and the OP/PV
+template that matches each cycle best (e.g. <i>tria/rect</i>: OP triangular, PV rectangular),
+PV against OP, and the area ratio R of each cycle.</p>
+<table id="loops"><thead><tr>{head}</tr></thead><tbody>
+{"".join(body)}
+</tbody></table>
+{"".join(sections)}
+<script>{_JS}</script>
+</body></html>
+"""
+    path = Path(path)
+    path.write_text(page, encoding="utf-8")
+    return path
