@@ -204,3 +204,130 @@ def check_positive(value, name, *, strict=True, upper=None):
         rng = f"{lo}" + (f" and <= {upper}" if upper is not None else "")
         raise ValueError(f"{name} must be a finite number {rng}; got {value!r}.")
     return float(value)
+
+
+# A bridge spans at most this fraction of the loop's period: over 1/16 of a sine a straight
+# line departs from the curve by under 2 % of the amplitude (1 - cos(pi / 16)), less than
+# the half-width of one of the 32 bins the shape templates average a cycle into.
+GAP_PERIOD_FRACTION = 1 / 16
+# ... and never more than this fraction of the record, for loops with a very long period.
+GAP_RECORD_FRACTION = 0.05
+
+
+def _bridge_limit(pv):
+    """Longest gap (samples) to bridge in one record: a chord over at most 1/16 period.
+
+    The period is read from the autocorrelation of the detrended record, which first
+    crosses zero at a quarter period for an oscillation and after about one lag for
+    white noise, so noisy records get single-sample bridges only.
+    """
+    ok = ~np.isnan(pv)
+    n = len(pv)
+    if ok.sum() < 4:
+        return 1
+    k = np.arange(n)
+    trend = np.polyval(np.polyfit(k[ok], pv[ok], 1), k)
+    x = np.where(ok, pv - trend, 0.0)
+    spectrum = np.fft.rfft(x, 2 * n)
+    r = np.fft.irfft(spectrum * np.conj(spectrum))[:n]
+    if r[0] <= 0:
+        return 1
+    below = np.flatnonzero(r <= 0)
+    quarter = below[0] if len(below) else n
+    # g missing samples make a chord over g + 1 intervals
+    limit = int(4 * quarter * GAP_PERIOD_FRACTION) - 1
+    return max(1, min(limit, int(GAP_RECORD_FRACTION * n)))
+
+
+def repair_gaps(X, max_gap="auto", *, min_length=20):
+    """Bridge short NaN gaps; split records at long ones and keep the longest stretch.
+
+    A gap is a run of samples where any channel the loop has (PV, OP, SP that are not
+    all-NaN) is missing, inside the record (trailing NaN padding is not a gap). Gaps of
+    at most ``max_gap`` samples are filled by a straight line between their neighbours,
+    channel by channel. Longer gaps split the record; the longest stretch between them
+    (ties: the first) is kept, moved to the start and NaN-padded at the end, so the result
+    stays in tslearn's layout. Missing samples at the two ends of that stretch are cut,
+    not filled.
+
+    Parameters
+    ----------
+    X : array-like of shape (n_loops, n_samples, n_channels)
+        Loops as accepted by :func:`check_loops`.
+    max_gap : "auto" or int, default="auto"
+        Longest gap bridged, in samples. ``"auto"``: per loop, the gap whose bridge (a
+        chord over gap + 1 intervals) spans at most 1/16 of the period read from the
+        first zero of the PV autocorrelation (a quarter period for an oscillation); at
+        least 1, at most 5 % of the record. Over 1/16 of a sine a chord stays within 2 %
+        of the amplitude, so cycle shapes and areas are kept; a noise-like record gets
+        single-sample bridges only.
+    min_length : int, default=20
+        A loop whose longest stretch is shorter is marked ``usable = False`` (its
+        stretch is still returned; :func:`loop_status` will call it ``too_short``).
+
+    Returns
+    -------
+    X_repaired : ndarray of shape (n_loops, n_samples, 3)
+    info : pandas.DataFrame, one row per loop
+        ``n_bridged`` (gaps filled in the kept stretch), ``n_filled`` (samples filled),
+        ``n_gaps_split`` (gaps too long to bridge, anywhere in the record),
+        ``kept_start``, ``kept_stop`` (the kept stretch ``[start, stop)`` in the input's
+        sample index), ``max_gap`` (the limit used), ``usable`` (kept stretch at least
+        ``min_length`` samples).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction._validation import repair_gaps
+    >>> pv = np.arange(30.0)
+    >>> pv[5:10] = np.nan        # long gap: splits the record
+    >>> pv[[20, 21]] = np.nan    # short gap: bridged
+    >>> Xr, info = repair_gaps(pv[None, :], max_gap=3)
+    >>> Xr[0, :20, 0].tolist() == list(range(10, 30))  # the longer stretch, moved to the start
+    True
+    >>> info.to_dict("records")
+    [{'n_bridged': 1, 'n_filled': 2, 'n_gaps_split': 1, 'kept_start': 10, 'kept_stop': 30, \
+'max_gap': 3, 'usable': True}]
+    """
+    import pandas as pd  # pandas only for the info table; keeps this module light to import
+
+    if not (max_gap == "auto" or (isinstance(max_gap, numbers.Integral) and max_gap >= 0)):
+        raise ValueError(f"max_gap must be 'auto' or an integer >= 0; got {max_gap!r}.")
+    if not (isinstance(min_length, numbers.Integral) and min_length >= 1):
+        raise ValueError(f"min_length must be an integer >= 1; got {min_length!r}.")
+    X = check_loops(X)
+    out = np.full_like(X, np.nan)
+    lengths = loop_lengths(X)
+    rows = []
+    for i, n in enumerate(lengths):
+        rec = X[i, :n]
+        present = ~np.isnan(X[i]).all(axis=0)
+        missing = np.isnan(rec[:, present]).any(axis=1)
+        limit = _bridge_limit(rec[:, PV]) if max_gap == "auto" else int(max_gap)
+        edges = np.diff(np.concatenate([[0], missing.astype(np.int8), [0]]))
+        starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+        inside = (starts > 0) & (stops < n)
+        long = inside & (stops - starts > limit)
+        # Stretches between long gaps, each trimmed of missing samples at its ends.
+        cuts = np.concatenate([[0], np.column_stack([starts[long], stops[long]]).ravel(), [n]])
+        best = (0, 0)
+        for a, b in cuts.reshape(-1, 2):
+            ok = np.flatnonzero(~missing[a:b])
+            if len(ok) and ok[-1] + 1 - ok[0] > best[1] - best[0]:
+                best = (a + ok[0], a + ok[-1] + 1)
+        a, b = best
+        stretch = rec[a:b].copy()
+        gaps = (starts >= a) & (stops <= b)
+        idx = np.arange(b - a)
+        for c in np.flatnonzero(present):
+            y = stretch[:, c]
+            nan = np.isnan(y)
+            if nan.any():
+                y[nan] = np.interp(idx[nan], idx[~nan], y[~nan])
+        out[i, : b - a] = stretch
+        rows.append({
+            "n_bridged": int(gaps.sum()), "n_filled": int((stops - starts)[gaps].sum()),
+            "n_gaps_split": int(long.sum()), "kept_start": int(a), "kept_stop": int(b),
+            "max_gap": limit, "usable": bool(b - a >= min_length),
+        })  # fmt: skip
+    return out, pd.DataFrame(rows)
