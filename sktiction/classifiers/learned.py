@@ -1,19 +1,72 @@
-"""A classifier learned on simulated loops from all the package's features."""
+"""A classifier learned on simulated loops, that says when a loop is outside what it learned.
+
+:class:`LearnedStictionClassifier` chains four steps, each there for a reason found
+when the first learned model met data it had not seen:
+
+1. **Per-loop normalisation** (:func:`normalise_loops`): PV and SP are centred on PV's
+   median and divided by PV's robust spread, OP by its own. Units, offsets and the
+   size of the numbers cannot enter a feature, so a verdict never changes when a loop
+   is scaled (even by 1e12) or shifted.
+2. **Features whose meaning carries over** from simulation to plants: area ratios,
+   template distances, cycle-free descriptors, the fitted valve model and the PV-OP
+   hysteresis (:class:`~sktiction.features.PVOPHysteresis`). Counts that grow with the
+   record length are replaced by shares (a classifier must not read record length).
+3. **An explicit domain check** fitted on the training features: hard rules (enough
+   samples, PV and OP related as in a closed loop, not mostly frozen rows) and per-
+   feature ranges of the training loops with a margin. Outside them the model gives no
+   probability (NaN), predicts the negative class and says why.
+4. **Calibrated probabilities**: gradient-boosted trees inside
+   :class:`~sklearn.calibration.CalibratedClassifierCV`, so that ``p = 0.8`` means
+   about 8 sticky loops in 10 among simulated loops like the training ones
+   (``benchmarks/simulated_accuracy.py`` prints the reliability table and Brier score).
+"""
 
 from __future__ import annotations
 
 import copy
 import functools
+import time
+import warnings
+from pathlib import Path
 
+import numpy as np
+import pandas as pd
+from joblib import Parallel, delayed
+from scipy import stats
+from sklearn.base import BaseEstimator, ClassifierMixin
+from sklearn.calibration import CalibratedClassifierCV
 from sklearn.ensemble import HistGradientBoostingClassifier
-from sklearn.pipeline import FeatureUnion, Pipeline
+from sklearn.pipeline import FeatureUnion
+from sklearn.utils.multiclass import check_classification_targets
+from sklearn.utils.validation import check_is_fitted, column_or_1d
+from threadpoolctl import threadpool_limits
 
+from .._validation import OP, PV, SP, STATUS_OK, loop_lengths, loop_status, validate_loops
 from ..features import AreaRatio, LoopDescriptors, StictionModelFit, TemplateDistances
+from ..features.hysteresis import PVOPHysteresis
+from . import _persistence
+
+#: Reasons :meth:`LearnedStictionClassifier.diagnose` gives for no verdict, besides the
+#: :func:`~sktiction._validation.loop_status` codes and ``out_of_domain:<feature>``.
+REASON_TOO_SHORT = "too_short"
+REASON_UNRELATED = "pv_op_unrelated"
+REASON_COMPRESSED = "too_compressed"
+OUT_OF_DOMAIN = "out_of_domain"
+
+# _ONE_THREAD: the booster's OpenMP threads spin against each other when other
+# processes keep the cores busy: a 3 s fit took 37 s on a loaded 2-core machine. One
+# thread costs little at this size; parallelism comes from the feature chunks instead.
+
+# Feature columns that count things and so grow with the record length: replaced
+# by the share of the record that oscillates.
+_LENGTH_COUNTS = ("area__n_half_cycles", "templates__n_cycles")
+# Statistics checked by the domain rules but not given to the model.
+DOMAIN_STATISTICS = ("pv_op_coupling", "frozen_share")
 
 
 def make_loop_features(n_jobs=None):
-    """All per-loop features side by side: area ratios, template distances, descriptors
-    and the fitted valve model.
+    """All per-loop features side by side: area ratios, template distances, descriptors,
+    the fitted valve model and the PV-OP hysteresis.
 
     Parameters
     ----------
@@ -40,68 +93,562 @@ def make_loop_features(n_jobs=None):
             ("templates", TemplateDistances()),
             ("descriptors", LoopDescriptors()),
             ("valve_model", StictionModelFit()),
+            ("hysteresis", PVOPHysteresis()),
         ],
         n_jobs=n_jobs,
     )
 
 
-def make_learned_classifier(random_state=None, **model_params):
-    """An untrained pipeline: loop features, then gradient-boosted trees.
+def _robust_spread(x):
+    """Interquartile range per row, falling back to the standard deviation, then 1."""
+    q1, q3 = np.nanpercentile(x, [25, 75], axis=1)
+    spread = q3 - q1
+    sd = np.nanstd(x, axis=1)
+    spread = np.where(spread > 1e-9 * sd, spread, sd)
+    return np.where(spread > 0, spread, 1.0)
 
-    Gradient boosting (:class:`~sklearn.ensemble.HistGradientBoostingClassifier`)
-    fits here because the features are few, on different scales, and missing where
-    a loop does not oscillate: the trees learn from the training loops which way a
-    missing value points instead of assuming that no oscillation means no stiction.
+
+def normalise_loops(loops):
+    """Centre and scale each loop: PV and SP by PV's median and IQR, OP by its own.
+
+    PV and SP share one scale so that the control error keeps its meaning. The IQR
+    ignores spikes and setpoint steps; it falls back to the standard deviation when
+    more than half of the samples sit on one value (a frozen historian record).
+
+    Parameters
+    ----------
+    loops : ndarray of shape (n_loops, n_samples, 3)
+        Output of :func:`~sktiction._validation.check_loops`.
+
+    Returns
+    -------
+    normalised : ndarray of shape (n_loops, n_samples, 3)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.classifiers.learned import normalise_loops
+    >>> X = np.random.default_rng(0).normal(size=(2, 100, 3))
+    >>> np.allclose(normalise_loops(X), normalise_loops(3e12 * X - 7e12))
+    True
+    """
+    out = np.array(loops, dtype=float)
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN channels stay NaN
+        pv_mid = np.nan_to_num(np.nanmedian(out[:, :, PV], axis=1))[:, None]
+        pv_scale = np.nan_to_num(_robust_spread(out[:, :, PV]), nan=1.0)[:, None]
+        op_mid = np.nan_to_num(np.nanmedian(out[:, :, OP], axis=1))[:, None]
+        op_scale = np.nan_to_num(_robust_spread(out[:, :, OP]), nan=1.0)[:, None]
+    out[:, :, PV] = (out[:, :, PV] - pv_mid) / pv_scale
+    out[:, :, SP] = (out[:, :, SP] - pv_mid) / pv_scale
+    out[:, :, OP] = (out[:, :, OP] - op_mid) / op_scale
+    return out
+
+
+def pv_op_coupling(pv, op, sp=None):
+    """How clearly OP follows the control error as a controller's output does, as a z-score.
+
+    Any PI(D) controller moves its output by ``dOP[t] = Kc de[t] + Kc Ts / Ti e[t]``
+    (plus filter and derivative terms), with ``e = SP - PV``. The increments of OP are
+    regressed on the error and its increment at lags 0 and 1, and the regression's
+    F-test is turned into a one-sided normal z-score (capped near 37). Conditional on
+    the error, unrelated OP increments make the F-test exact, so unrelated signals
+    (white noise, independent random walks, repeated values) give z of about 0 and
+    rarely above 3; a closed loop gives a large z whether it oscillates or not, a
+    noise-free limit cycle included.
+
+    Parameters
+    ----------
+    pv, op : ndarray of shape (n_samples,)
+        One loop, without NaN.
+    sp : ndarray or None, default=None
+        Setpoint; ``None`` or any NaN uses ``-PV`` about its mean as the error.
+
+    Returns
+    -------
+    z : float
+        NaN when OP never moves or the record is shorter than 10 samples.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.classifiers.learned import pv_op_coupling
+    >>> rng = np.random.default_rng(0)
+    >>> a, b = rng.normal(size=(2, 1000)).cumsum(axis=1)
+    >>> bool(pv_op_coupling(a, b) < 5), bool(pv_op_coupling(a, -2 * a + b / 10) > 20)
+    (True, True)
+    """
+    pv = np.asarray(pv, dtype=float)
+    if sp is None or np.isnan(sp).any():
+        err = -(pv - pv.mean())
+    else:
+        err = np.asarray(sp, dtype=float) - pv
+    y = np.diff(op)[1:]
+    if y.size < 10 or np.ptp(y) == 0:
+        return np.nan
+    de = np.diff(err)
+    A = np.column_stack([de[1:], de[:-1], err[2:], err[1:-1], np.ones(y.size)])
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    r = y - A @ coef
+    sst = float(np.sum((y - y.mean()) ** 2))
+    k, dof = A.shape[1] - 1, y.size - A.shape[1]
+    r2 = 1.0 - float(r @ r) / sst
+    f = (r2 / k) / max(1.0 - r2, 1e-300) * dof
+    log_p = stats.f.logsf(f, k, dof)
+    return float(stats.norm.isf(np.exp(max(log_p, -700.0))))
+
+
+def domain_statistics(loops):
+    """Per-loop statistics of the domain rules: ``pv_op_coupling`` and ``frozen_share``.
+
+    ``frozen_share`` is the share of sample steps in which PV and OP both stay
+    exactly the same (a historian holding its last value); NaN for loops that
+    :func:`~sktiction._validation.loop_status` rejects.
+    """
+    out = np.full((len(loops), len(DOMAIN_STATISTICS)), np.nan)
+    status = loop_status(loops, require_op=True)
+    for i, n in enumerate(loop_lengths(loops)):
+        if status[i] != STATUS_OK:
+            continue
+        pv, op = loops[i, :n, PV], loops[i, :n, OP]
+        out[i, 0] = pv_op_coupling(pv, op, loops[i, :n, SP])
+        out[i, 1] = np.mean((np.diff(pv) == 0) & (np.diff(op) == 0))
+    return out
+
+
+class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
+    """Stiction classifier learned from loops, with a domain check and calibrated output.
+
+    ``fit`` normalises each loop (scale and offset cannot matter), computes the
+    features of :func:`make_loop_features`, fits the domain check and a calibrated
+    gradient-boosted classifier. ``diagnose`` says per loop whether the model may
+    speak (``in_domain``) and why not (``reason``); outside its domain
+    ``predict_proba`` gives NaN and ``predict`` the negative class.
+
+    Gradient boosting fits because the features are few, on different scales, and
+    missing where a loop does not oscillate: the trees learn from the training loops
+    which way a missing value points instead of assuming that no oscillation means
+    no stiction.
+
+    Parameters
+    ----------
+    max_iter, learning_rate, l2_regularization, min_samples_leaf : numbers
+        Of :class:`~sklearn.ensemble.HistGradientBoostingClassifier`.
+    calibration : {"isotonic", "sigmoid"} or None, default="isotonic"
+        Method of :class:`~sklearn.calibration.CalibratedClassifierCV` (``cv`` folds);
+        ``None`` leaves the booster's probabilities as they are.
+    cv : int, default=3
+        Folds of the calibration.
+    min_samples : int, default=200
+        Fewer samples give ``too_short``: too few for the dynamics of a loop.
+    min_coupling : float, default=5.0
+        :func:`pv_op_coupling` below this gives ``pv_op_unrelated``: OP does not
+        follow the control error as a controller's output does (unrelated signals
+        give z below 3).
+    max_frozen_share : float, default=0.8
+        A larger share of steps with PV and OP both frozen gives ``too_compressed``.
+    domain_quantile : float, default=0.002
+        Each feature's training range is taken between this quantile and its
+        complement ...
+    domain_margin : float, default=0.5
+        ... widened by this share of its width on each side; a loop with a feature
+        outside gets ``out_of_domain:<feature>``. ``None`` turns the range check off.
+    random_state : int or None, default=None
+        Seed of the booster.
+    n_jobs : int or None, default=None
+        Processes for the features (loops are split into chunks).
+
+    Attributes
+    ----------
+    classes_ : ndarray of shape (2,)
+        Labels; the second is the stiction class.
+    feature_names_ : ndarray of str
+        Columns given to the model.
+    domain_low_, domain_high_ : ndarray
+        Accepted range of each feature; ``domain_nan_`` whether NaN was seen in training.
+    model_ : estimator
+        The fitted (calibrated) classifier.
+
+    Examples
+    --------
+    >>> from sktiction.classifiers import LearnedStictionClassifier
+    >>> from sktiction.datasets import make_loops
+    >>> X, y = make_loops(40, n_samples=1000, random_state=0)
+    >>> clf = LearnedStictionClassifier(max_iter=30, random_state=0).fit(X, y)
+    >>> clf.diagnose(X[:2]).columns.tolist()
+    ['prediction', 'probability', 'in_domain', 'reason']
+    """
+
+    def __init__(
+        self,
+        *,
+        max_iter=300,
+        learning_rate=0.08,
+        l2_regularization=1.0,
+        min_samples_leaf=20,
+        calibration="isotonic",
+        cv=3,
+        min_samples=200,
+        min_coupling=5.0,
+        max_frozen_share=0.8,
+        domain_quantile=0.002,
+        domain_margin=0.5,
+        random_state=None,
+        n_jobs=None,
+    ):
+        self.max_iter = max_iter
+        self.learning_rate = learning_rate
+        self.l2_regularization = l2_regularization
+        self.min_samples_leaf = min_samples_leaf
+        self.calibration = calibration
+        self.cv = cv
+        self.min_samples = min_samples
+        self.min_coupling = min_coupling
+        self.max_frozen_share = max_frozen_share
+        self.domain_quantile = domain_quantile
+        self.domain_margin = domain_margin
+        self.random_state = random_state
+        self.n_jobs = n_jobs
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True  # NaN pads loops of unequal length
+        tags.input_tags.three_d_array = True
+        return tags
+
+    def _validate_params(self):
+        if self.calibration not in ("isotonic", "sigmoid", None):
+            raise ValueError(
+                f"calibration must be 'isotonic', 'sigmoid' or None; got {self.calibration!r}."
+            )
+        if not 0 <= self.domain_quantile < 0.5:
+            raise ValueError(f"domain_quantile must be in [0, 0.5); got {self.domain_quantile!r}.")
+        if self.domain_margin is not None and not self.domain_margin >= 0:
+            raise ValueError(f"domain_margin must be >= 0 or None; got {self.domain_margin!r}.")
+        if not 0 < self.max_frozen_share <= 1:
+            raise ValueError(
+                f"max_frozen_share must be in (0, 1]; got {self.max_frozen_share!r}."
+            )
+        if int(self.min_samples) != self.min_samples or self.min_samples < 20:
+            raise ValueError(f"min_samples must be an integer >= 20; got {self.min_samples!r}.")
+
+    # ---- features -------------------------------------------------------------------
+
+    def _raw_features(self, loops):
+        """Feature matrix of normalised loops plus the domain statistics, in chunks."""
+        union = make_loop_features()
+
+        def chunk(part):
+            with threadpool_limits(limits=1):  # tiny least-squares fits: see _ONE_THREAD
+                feats = union.fit(part[:1]).transform(part)
+                return np.hstack([feats, domain_statistics(part)])
+
+        n_jobs = self.n_jobs if self.n_jobs is not None else 1
+        size = max(1, int(np.ceil(len(loops) / max(1, 4 * abs(n_jobs)))))
+        parts = [loops[s : s + size] for s in range(0, len(loops), size)]
+        if n_jobs == 1 or len(parts) == 1:
+            rows = [chunk(p) for p in parts]
+        else:
+            rows = Parallel(n_jobs=n_jobs)(delayed(chunk)(p) for p in parts)
+        names = list(union.fit(loops[:1]).get_feature_names_out()) + list(DOMAIN_STATISTICS)
+        return pd.DataFrame(np.vstack(rows), columns=names)
+
+    @staticmethod
+    def _model_columns(raw, lengths):
+        """Model inputs: raw features minus counts that grow with the record length,
+        plus the share of the record that oscillates."""
+        cols = [c for c in raw.columns if c not in _LENGTH_COUNTS + DOMAIN_STATISTICS]
+        out = raw[cols].copy()
+        with np.errstate(all="ignore"):
+            share = raw["templates__n_cycles"] * raw["templates__period"] / lengths
+        out["oscillating_share"] = np.clip(share, 0.0, 1.0)
+        return out
+
+    def loop_features(self, X):
+        """The features the model reads and the domain statistics, one row per loop.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP, NaN-padded at the end.
+
+        Returns
+        -------
+        features : pandas.DataFrame
+            Model columns, then ``pv_op_coupling`` and ``frozen_share``.
+        """
+        check_is_fitted(self, "model_")
+        loops = validate_loops(self, X, reset=False)
+        return self._features(normalise_loops(loops))
+
+    def _features(self, loops):
+        raw = self._raw_features(loops)
+        feats = self._model_columns(raw, loop_lengths(loops))
+        return pd.concat([feats, raw[list(DOMAIN_STATISTICS)]], axis=1)
+
+    # ---- fit ------------------------------------------------------------------------
+
+    def _make_model(self):
+        booster = HistGradientBoostingClassifier(
+            max_iter=self.max_iter,
+            learning_rate=self.learning_rate,
+            l2_regularization=self.l2_regularization,
+            min_samples_leaf=self.min_samples_leaf,
+            random_state=self.random_state,
+        )
+        if self.calibration is None:
+            return booster
+        return CalibratedClassifierCV(booster, method=self.calibration, cv=self.cv)
+
+    def fit(self, X, y):
+        """Compute the features, fit the domain check and the calibrated model.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP, NaN-padded at the end.
+        y : array-like of shape (n_loops,)
+            Two classes; the second in sorted order is stiction (e.g. 0/1).
+
+        Returns
+        -------
+        self : object
+            Fitted classifier.
+        """
+        self._validate_params()
+        loops = validate_loops(self, X, reset=True)
+        y = column_or_1d(y, warn=True)
+        check_classification_targets(y)
+        if len(y) != len(loops):
+            raise ValueError(
+                f"X has {len(loops)} loops but y has {len(y)} labels; they must match."
+            )
+        self.classes_, y_idx = np.unique(y, return_inverse=True)
+        if len(self.classes_) != 2:
+            raise ValueError(f"y must hold exactly two classes; got {self.classes_.tolist()}.")
+        self.n_channels_in_ = int(np.shape(X)[2]) if np.ndim(X) == 3 else 1
+        feats = self._features(normalise_loops(loops))
+        usable = self._hard_reasons(loops, feats) == STATUS_OK
+        if usable.sum() < 10 or len(np.unique(y_idx[usable])) < 2:
+            raise ValueError(
+                f"only {int(usable.sum())} of {len(loops)} training loops can be analysed "
+                "(long enough, with OP, PV and OP related); need at least 10 of both classes."
+            )
+        model_cols = [c for c in feats.columns if c not in DOMAIN_STATISTICS]
+        F = feats.loc[usable, model_cols].to_numpy()
+        self.feature_names_ = np.asarray(model_cols, dtype=object)
+        q = self.domain_quantile
+        with np.errstate(all="ignore"):
+            lo, hi = np.nanquantile(F, [q, 1 - q], axis=0)
+        width = np.nan_to_num(hi - lo)
+        margin = 0.0 if self.domain_margin is None else self.domain_margin
+        self.domain_low_ = lo - margin * width
+        self.domain_high_ = hi + margin * width
+        self.domain_nan_ = np.isnan(F).any(axis=0)
+        with threadpool_limits(limits=1):  # see _ONE_THREAD
+            self.model_ = self._make_model().fit(F, y_idx[usable])
+        return self
+
+    # ---- verdicts -------------------------------------------------------------------
+
+    def _hard_reasons(self, loops, feats):
+        status = loop_status(loops, require_op=True).astype(object)
+        n = loop_lengths(loops)
+        ok = status == STATUS_OK
+        status[ok & (n < self.min_samples)] = REASON_TOO_SHORT
+        coupling = feats["pv_op_coupling"].to_numpy()
+        ok = status == STATUS_OK
+        status[ok & ~(coupling >= self.min_coupling)] = REASON_UNRELATED
+        ok = status == STATUS_OK
+        status[ok & (feats["frozen_share"].to_numpy() > self.max_frozen_share)] = (
+            REASON_COMPRESSED
+        )
+        return status
+
+    def _range_reasons(self, F, reasons):
+        if self.domain_margin is None:
+            return reasons
+        with np.errstate(invalid="ignore"):
+            below = (self.domain_low_ - F) / np.where(
+                self.domain_high_ > self.domain_low_, self.domain_high_ - self.domain_low_, 1.0
+            )
+            above = (F - self.domain_high_) / np.where(
+                self.domain_high_ > self.domain_low_, self.domain_high_ - self.domain_low_, 1.0
+            )
+        excess = np.fmax(below, above)
+        excess = np.where(np.isnan(F) & ~self.domain_nan_, np.inf, excess)
+        excess = np.nan_to_num(excess, nan=-np.inf)
+        worst = np.argmax(excess, axis=1)
+        out = reasons.copy()
+        for i in np.flatnonzero((reasons == STATUS_OK) & (excess.max(axis=1) > 0)):
+            out[i] = f"{OUT_OF_DOMAIN}:{self.feature_names_[worst[i]]}"
+        return out
+
+    def _diagnose_features(self, loops, feats):
+        reasons = self._hard_reasons(loops, feats)
+        F = feats[list(self.feature_names_)].to_numpy()
+        reasons = self._range_reasons(F, reasons)
+        in_domain = reasons == STATUS_OK
+        proba = np.full(len(loops), np.nan)
+        if in_domain.any():
+            with threadpool_limits(limits=1):  # see _ONE_THREAD
+                proba[in_domain] = self.model_.predict_proba(F[in_domain])[:, 1]
+        pred_idx = (in_domain & (proba >= 0.5)).astype(int)
+        return pd.DataFrame(
+            {
+                "prediction": self.classes_[pred_idx],
+                "probability": proba,
+                "in_domain": in_domain,
+                "reason": reasons.astype(str),
+            }
+        )
+
+    def diagnose(self, X):
+        """Per loop: verdict, calibrated probability, whether the model may speak, and why.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP, NaN-padded at the end.
+
+        Returns
+        -------
+        report : pandas.DataFrame
+            ``prediction`` (a class; the negative one without a verdict),
+            ``probability`` of stiction (NaN without a verdict), ``in_domain`` (bool)
+            and ``reason``: ``ok``, a :func:`~sktiction._validation.loop_status` code,
+            ``too_short``, ``pv_op_unrelated``, ``too_compressed`` or
+            ``out_of_domain:<feature>`` (the feature furthest outside its training range).
+        """
+        check_is_fitted(self, "model_")
+        loops = validate_loops(self, X, reset=False)
+        return self._diagnose_features(loops, self._features(normalise_loops(loops)))
+
+    def predict_proba(self, X):
+        """Calibrated class probabilities; NaN rows for loops outside the model's domain.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP.
+
+        Returns
+        -------
+        proba : ndarray of shape (n_loops, 2)
+            Columns follow ``classes_``; NaN where :meth:`diagnose` says
+            ``in_domain`` is False.
+        """
+        p = self.diagnose(X)["probability"].to_numpy()
+        return np.column_stack([1.0 - p, p])
+
+    def predict(self, X):
+        """The stiction class where the calibrated probability is >= 0.5 in domain, else
+        the other class (outside the domain the model gives no verdict: see
+        :meth:`diagnose`).
+
+        Parameters
+        ----------
+        X : array-like of shape (n_loops, n_samples, n_channels)
+            Loops, channels PV, OP, SP.
+
+        Returns
+        -------
+        y_pred : ndarray of shape (n_loops,)
+        """
+        return self.diagnose(X)["prediction"].to_numpy()
+
+
+def make_learned_classifier(random_state=None, **params):
+    """An untrained :class:`LearnedStictionClassifier`.
 
     Recipe::
 
-        X, y = make_loops(3000, slip_fraction=0.25, random_state=0)
+        X, y = make_loops(1500, slip_fraction=0.25, random_state=0)
         clf = make_learned_classifier(random_state=0).fit(X, y)
 
     Parameters
     ----------
-    random_state : int, Generator or None, default=None
+    random_state : int or None, default=None
         Seed of the booster.
-    **model_params
-        Overrides for :class:`~sklearn.ensemble.HistGradientBoostingClassifier`.
+    **params
+        Other parameters of :class:`LearnedStictionClassifier`.
 
     Returns
     -------
-    pipeline : sklearn.pipeline.Pipeline
-        Steps ``features`` and ``model``.
+    classifier : LearnedStictionClassifier
 
     Examples
     --------
     >>> from sktiction.classifiers import make_learned_classifier
-    >>> make_learned_classifier(random_state=0).steps[-1][0]
-    'model'
+    >>> make_learned_classifier(random_state=0).calibration
+    'isotonic'
     """
-    params = {"max_iter": 300, "learning_rate": 0.08, "l2_regularization": 1.0}
-    params.update(model_params)
-    model = HistGradientBoostingClassifier(random_state=random_state, **params)
-    return Pipeline([("features", make_loop_features()), ("model", model)])
+    return LearnedStictionClassifier(random_state=random_state, **params)
 
 
-@functools.lru_cache(maxsize=4)
-def _train(random_state, n_loops, n_samples):
+# Source the trained model depends on (relative to the package): a change to any of
+# them makes a cached model stale.
+_TRAINING_SOURCES = (
+    "_validation.py",
+    "classifiers/learned.py",
+    "classifiers/_persistence.py",
+    "cycles",
+    "features",
+    "simulation",
+    "datasets/_generators.py",
+    "realism",
+)
+
+
+def _training_set(random_state, n_loops, n_samples):
     from ..datasets import make_loops
 
     # a quarter of the sticky loops only slip during setpoint moves, so the model does
     # not learn that a window without a cycle is a healthy valve
-    X, y = make_loops(
-        n_loops, n_samples=n_samples, slip_fraction=0.25, random_state=random_state
+    return make_loops(n_loops, n_samples=n_samples, slip_fraction=0.25, random_state=random_state)
+
+
+def training_key(random_state, n_loops, n_samples):
+    """What a cached default model must have been built from (see :mod:`._persistence`)."""
+    from .. import __version__
+
+    root = Path(__file__).resolve().parents[1]
+    return {
+        "package": __version__,
+        "arguments": {"random_state": random_state, "n_loops": n_loops, "n_samples": n_samples},
+        "source": _persistence.source_hash(root, _TRAINING_SOURCES),
+        **_persistence.runtime_versions(),
+    }
+
+
+def _build(random_state, n_loops, n_samples, n_jobs):
+    X, y = _training_set(random_state, n_loops, n_samples)
+    return make_learned_classifier(random_state=random_state, n_jobs=n_jobs).fit(X, y)
+
+
+@functools.lru_cache(maxsize=4)
+def _trained(random_state, n_loops, n_samples, cache):
+    if not cache:
+        return _build(random_state, n_loops, n_samples, 2), "built (no cache)"
+    key = training_key(random_state, n_loops, n_samples)
+    name = f"learned-rs{random_state}-n{n_loops}-s{n_samples}"
+    return _persistence.load_or_build(
+        name, key, lambda: _build(random_state, n_loops, n_samples, 2)
     )
-    return make_learned_classifier(random_state=random_state).fit(X, y)
 
 
-def pretrained_classifier(random_state=0, *, n_loops=1500, n_samples=2000):
-    """A learned classifier trained on the spot on simulated loops.
+def pretrained_classifier(random_state=0, *, n_loops=1500, n_samples=2000, cache=True):
+    """The default learned classifier, trained on simulated loops once and then cached.
 
     Trains :func:`make_learned_classifier` on
     ``make_loops(n_loops, n_samples, slip_fraction=0.25)`` (a quarter of the sticky
-    loops show only slips during setpoint moves, no cycle; well under a minute with
-    the defaults); the result is cached per argument set
-    within the process, and a copy is returned so callers may change it.
+    loops show only slips during setpoint moves, no cycle) and stores it in the user
+    cache (``$SKTICTION_CACHE``, else ``~/.cache/sktiction``; see
+    :mod:`sktiction.classifiers._persistence`), keyed by the package version, these
+    arguments, a hash of the training code and the numpy / scikit-learn versions. A new
+    process loads it in well under 2 s; a missing, stale or corrupt entry is rebuilt
+    (under a minute on 2 cores with the defaults). Within a process the result is also
+    kept in memory; a copy is returned so callers may change it.
 
     Parameters
     ----------
@@ -111,17 +658,39 @@ def pretrained_classifier(random_state=0, *, n_loops=1500, n_samples=2000):
         Number of simulated training loops.
     n_samples : int, default=2000
         Samples per simulated loop.
+    cache : bool, default=True
+        Use the on-disk cache; ``False`` trains in memory only.
 
     Returns
     -------
-    classifier : sklearn.pipeline.Pipeline
-        Fitted; ``predict``, ``predict_proba`` on loops ``(n_loops, n_samples, 3)``.
+    classifier : LearnedStictionClassifier
+        Fitted; ``predict``, ``predict_proba``, ``diagnose`` on loops ``(n_loops, n_samples, 3)``.
 
     Examples
     --------
     >>> from sktiction import pretrained_classifier
-    >>> clf = pretrained_classifier(n_loops=60, n_samples=1000)
+    >>> clf = pretrained_classifier(n_loops=60, n_samples=1000, cache=False)
     >>> clf.classes_.tolist()
     [0, 1]
     """
-    return copy.deepcopy(_train(random_state, int(n_loops), int(n_samples)))
+    model, _ = _trained(int(random_state), int(n_loops), int(n_samples), bool(cache))
+    return copy.deepcopy(model)
+
+
+def _main():  # pragma: no cover - timing helper: python -m sktiction.classifiers.learned
+    t0 = time.perf_counter()
+    _, status = _trained(0, 1500, 2000, True)
+    print(f"default learned classifier {status} in {time.perf_counter() - t0:.1f} s")
+
+
+if __name__ == "__main__":  # pragma: no cover
+    _main()
+
+__all__ = [
+    "LearnedStictionClassifier",
+    "make_learned_classifier",
+    "make_loop_features",
+    "normalise_loops",
+    "pretrained_classifier",
+    "pv_op_coupling",
+]

@@ -4,6 +4,7 @@ cycle-free descriptors and a fitted valve model."""
 from .area_ratio import AreaRatio
 from .descriptors import LoopDescriptors
 from .dtw import paired_dtw
+from .hysteresis import PVOPHysteresis
 from .stiction_model import StictionModelFit
 from .template_distances import TemplateDistances, cycle_table
 
@@ -14,4 +15,5 @@ __all__ = [
     "TemplateDistances",
     "cycle_table",
     "paired_dtw",
+    "PVOPHysteresis",
 ]

@@ -19,7 +19,6 @@ FEATURES = (
     "op_jump_share",
     "pv_op_jump_ratio",
     "op_saturated_share",
-    "pv_kurtosis_diff",
 )
 
 
@@ -37,10 +36,17 @@ def _jump_share(x, top=0.02):
     return float(np.partition(dx, dx.size - k)[-k:].sum() / total)
 
 
-def _kurtosis(x):
-    x = x - x.mean()
-    v = np.mean(x * x)
-    return float(np.mean(x**4) / v**2 - 3.0) if v > 0 else np.nan
+def _saturated_share(op, tol=1e-3):
+    """Share of samples with OP pinned at its own minimum or maximum.
+
+    Measured from OP's own range, not 0/100 %, so the units of OP do not matter: a
+    saturated controller output sits on one value for long runs, while a moving one
+    touches its extremes once.
+    """
+    lo, hi = op.min(), op.max()
+    band = tol * (hi - lo)
+    at_edge = (op <= lo + band) | (op >= hi - band)
+    return float(at_edge.mean()) if at_edge.mean() > 0.01 else 0.0
 
 
 def _ccf_features(pv, op, max_lag):
@@ -75,8 +81,12 @@ class LoopDescriptors(LoopTransformer):
     - ``pv_jump_share``, ``op_jump_share``: share of total travel carried by the
       largest 2 % of sample-to-sample moves; ``pv_op_jump_ratio`` their ratio
       (large when PV slips while OP ramps, the mark of stick-slip).
-    - ``op_saturated_share``: share of samples with OP at 0 or 100 %.
-    - ``pv_kurtosis_diff``: kurtosis of PV increments minus that of OP increments.
+    - ``op_saturated_share``: share of samples with OP pinned at its own minimum
+      or maximum (0 when under 1 %, so a single touch does not count).
+
+    Every column is unchanged when PV and OP are scaled or shifted. The kurtosis
+    of PV increments minus OP increments was dropped: in simulated training sets it
+    read the OP kick of a setpoint step (a nuisance), not the valve.
 
     Loops that cannot be analysed (see :func:`~sktiction._validation.loop_status`)
     get NaN; OP-based columns are NaN without OP.
@@ -118,6 +128,5 @@ class LoopDescriptors(LoopTransformer):
         row[:2] = _ccf_features(pv, op, max(1, min(int(self.max_lag), n // 4)))
         row[3] = _jump_share(op)
         row[4] = row[2] / row[3] if row[3] > 0 else np.nan
-        row[5] = np.mean((op <= 0.0) | (op >= 100.0))
-        row[6] = _kurtosis(np.diff(pv)) - _kurtosis(np.diff(op))
+        row[5] = _saturated_share(op)
         return row

@@ -1,0 +1,127 @@
+"""PV-OP hysteresis: evidence of a valve that sticks, measured the same way in any plant.
+
+Two published ideas, both read from how PV moves against OP rather than from the
+shape of a cycle, and both normalised by each signal's own noise and spread so that
+units, offsets, sample time and record length do not enter:
+
+- **Stuck share** (Kano et al. 2004; Yamashita 2006): each short window of OP and PV
+  is classified qualitatively as increasing, decreasing or steady. A sticking valve
+  leaves PV steady while OP moves (the valve is stuck) and then both move (slip);
+  the share of OP-moving windows with PV steady measures how long the valve stays
+  stuck.
+- **Hysteresis fill** (the PV-OP plot of Choudhury et al. 2005): the area swept by the
+  trajectory in the (OP, control error) plane, as a share of the area a rectangle
+  of the same height and the same OP travel would sweep. A line (PV following OP in
+  phase) gives 0, an ellipse of phase lag phi about 0.79 sin(phi), the parallelogram
+  of stick-slip close to 1; noise sweeps little area.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import OP, PV
+from ..cycles import dominant_period, moving_average, noise_std, remove_mean
+from ._loops import LoopTransformer, control_error
+
+FEATURES = ("stuck_share", "moving_share", "hysteresis_fill")
+
+
+def _window(x, n):
+    """Smoothing/increment window: 1/32 of the dominant period, else n / 400 (>= 2).
+
+    Short enough that a stuck stretch of a small band is not smoothed into a ramp.
+    """
+    period, strength = dominant_period(x)
+    if np.isfinite(period) and strength > 0.2:
+        return int(np.clip(round(period / 32), 2, max(2, n // 20))), period
+    return int(np.clip(round(n / 400), 2, max(2, n // 20))), np.nan
+
+
+def _moves(x, w):
+    """Qualitative state of each window of ``w`` samples: +1 rising, -1 falling, 0 steady.
+
+    A move must exceed three noise standard deviations of the increment of a
+    ``w``-sample mean (noise from second differences) and 2 % of the 5-95 % spread,
+    so neither noise nor a coarse recording grid counts as movement.
+    """
+    smooth = moving_average(x, w)
+    d = smooth[w:] - smooth[:-w]
+    lo, hi = np.percentile(x, [5, 95])
+    limit = max(3.0 * noise_std(x) * np.sqrt(2.0 / w), 0.02 * (hi - lo))
+    return np.sign(d) * (np.abs(d) > limit)
+
+
+def stuck_share(pv, op, w):
+    """Share of OP-moving windows in which PV stays steady, and the share OP moves.
+
+    Returns ``(nan, moving)`` when OP never moves beyond its noise.
+    """
+    m_op = _moves(op, w)
+    m_pv = _moves(pv, w)
+    moving = m_op != 0
+    share = float(np.mean(moving))
+    if not moving.any():
+        return np.nan, share
+    return float(np.mean(m_pv[moving] == 0)), share
+
+
+def hysteresis_fill(err, op, w, period):
+    """Area swept in the (OP, error) plane over that of a rectangle, 0 (line) to 1.
+
+    Both signals lose their moving mean over one period (or a linear trend when
+    there is no period) and are smoothed over ``w`` samples first.
+    """
+    x = moving_average(remove_mean(op, period), w)
+    y = moving_average(remove_mean(err, period), w)
+    x = x - np.median(x)
+    y = y - np.median(y)
+    travel = np.abs(np.diff(x)).sum()
+    lo, hi = np.percentile(y, [5, 95])
+    if travel == 0 or hi == lo:
+        return np.nan
+    area = 0.5 * np.sum(x[:-1] * y[1:] - x[1:] * y[:-1])
+    return float(min(2.0 * abs(area) / (travel * (hi - lo)), 1.5))
+
+
+class PVOPHysteresis(LoopTransformer):
+    """How PV moves against OP: stuck share and hysteresis fill of the PV-OP plot.
+
+    Columns:
+
+    - ``stuck_share``: share of the windows in which OP moves while PV stays
+      steady (Kano et al. 2004; Yamashita 2006's qualitative shapes), windows of
+      1/32 of the dominant period.
+    - ``moving_share``: share of windows in which OP moves at all (context for the
+      above: a quiet OP makes the stuck share meaningless).
+    - ``hysteresis_fill``: area swept in the (OP, control error) plane over that of
+      a rectangle of the same height and OP travel; 0 for PV in phase with OP,
+      near 1 for the parallelogram of stick-slip.
+
+    Every column is unchanged when PV, SP and OP are scaled or shifted (each is a
+    ratio of quantities in the same signal's units), and none grows with the
+    record length. Loops without OP or that cannot be analysed get NaN.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.features import PVOPHysteresis
+    >>> t = np.arange(2000)
+    >>> op = 50 + 10 * (2 * np.abs((t % 200) / 200 - 0.5) - 0.5)  # triangle
+    >>> valve = np.clip(np.round(op / 4) * 4, 0, 100)              # moves in 4 % slips
+    >>> X = np.stack([valve, op, np.full(2000, 50.0)], axis=1)[None]
+    >>> f = PVOPHysteresis().fit_transform(X)
+    >>> bool(f[0, 0] > 0.5)  # PV stays put while OP ramps
+    True
+    """
+
+    feature_names = FEATURES
+    _needs_op = True
+
+    def _transform_loop(self, loops, i, n):
+        err = control_error(loops, i, n)
+        op = loops[i, :n, OP]
+        pv = loops[i, :n, PV]
+        w, period = _window(op, n)
+        stuck, moving = stuck_share(pv, op, w)
+        return [stuck, moving, hysteresis_fill(err, op, w, period)]
