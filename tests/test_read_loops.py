@@ -1,13 +1,15 @@
 """read_loops: both file layouts, every kind of bad input, and the shared measured data."""
 
 import os
+import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 
-from sktiction.datasets import read_loop_file, read_loops
+from sktiction.datasets import list_loop_files, read_loop_file, read_loops
 
 HEADER = (
     "PROCESSDATA\t{tag} Data\tyyyy-MM-dd HH:mm:ss\r\n"
@@ -236,3 +238,208 @@ def test_isdb_files():
     i = data.meta.index[data.meta["file"] == "chemicals_loop1.csv"][0]
     np.testing.assert_allclose(data.X[i, : len(raw), 0], raw["PV"])
     np.testing.assert_allclose(data.X[i, : len(raw), 1], raw["OP"])
+
+
+# ---- the tricky exports of tests/data/exports (written by tests/data/make_exports.py) ------
+
+EXPORTS = Path(__file__).resolve().parent / "data" / "exports"
+START = pd.Timestamp("2024-10-17 21:55:00")
+K = np.arange(12)
+PV, OP = 50 + 0.5 * K, 30.0 + K
+
+
+def read(name, **kwargs):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no pandas dtype or "loss of data" warnings
+        data = read_loop_file(EXPORTS / name, **kwargs)
+    assert data.X.shape[0] == len(data.meta)
+    return data
+
+
+def ok(name, n_loops=1, **kwargs):
+    data = read(name, **kwargs)
+    assert (data.meta["status"] == "ok").all(), data.meta["reason"].tolist()
+    assert len(data.meta) == n_loops
+    return data, data.meta.iloc[0]
+
+
+def test_exports_nothing_dropped_silently():
+    listed = list_loop_files(EXPORTS)
+    files = sorted(str(p) for p in EXPORTS.rglob("*") if p.is_file())
+    assert sorted(listed["path"]) == files  # every file, sub-folders included
+    for row in listed.itertuples():
+        if not row.supported:
+            assert row.reason, row.path
+            continue
+        meta = read(row.path).meta
+        assert ((meta["status"] == "ok") | (meta["reason"].str.len() > 10)).all(), row.path
+    data = read_loops(EXPORTS, on_error="skip")
+    assert len(set(data.meta["path"])) + len(data.skipped) == len(files)
+    assert set(data.skipped["path"].map(lambda p: Path(p).name)) == {
+        "index.csv",
+        "legacy.dat",
+        "old_workbook.xls",
+    }
+    assert "site_b" in data.meta.loc[data.meta["file"] == "FIC900.csv", "path"].iloc[0]
+
+
+def test_export_duplicated_timestamp_keeps_first():
+    data, row = ok("historian_duplicate.txt")
+    np.testing.assert_allclose(data.X[0, :, 0], PV)  # the second row at 21:55:40 (99) dropped
+    np.testing.assert_allclose(data.X[0, :, 1], OP)
+    assert row["reason"] == "1 duplicated timestamps: kept the first row of each"
+    assert row["ts"] == 10 and row["start"] == START and row["tag"] == "2111FIC10201"
+    assert read("historian_duplicate.txt", strict=True).meta.loc[0, "status"] == "error"
+
+
+def test_export_status_text():
+    data, row = ok("historian_status.txt")
+    np.testing.assert_array_equal(np.flatnonzero(np.isnan(data.X[0, :, 0])), [2, 3, 5, 7])
+    np.testing.assert_array_equal(np.flatnonzero(np.isnan(data.X[0, :, 1])), [8])
+    assert row["reason"] == (
+        "4 text values in PV read as NaN ('Bad' x1, 'I/O Timeout' x1, 'Shutdown' x1, ...); "
+        "1 text values in OP read as NaN ('Calc Failed' x1)"
+    )
+    assert row["n_nan"] == 5 and row["loop_type"] == "level"
+    strict = read("historian_status.txt", strict=True).meta.iloc[0]
+    assert strict["status"] == "error" and "'Bad'" in strict["reason"]
+
+
+def test_export_historian_variants():
+    data, row = ok("historian_trailing_tab.txt")
+    np.testing.assert_allclose(data.X[0, :, :2], np.column_stack([PV, OP]))
+    assert row["reason"] == "" and row["loop_type"] == "pressure"
+    data, row = ok("historian_ms.txt")
+    assert row["ts"] == 0.5 and row["start"] == START and row["n_samples"] == 12
+
+
+def test_export_time_order_and_grid():
+    data, row = ok("unsorted.csv")
+    np.testing.assert_allclose(data.X[0, :, 0], PV)
+    assert row["reason"] == "rows not in time order (2 steps back): sorted"
+    data, row = ok("irregular.csv")
+    # Samples at 0, 9, 20, 29, ... with PV = t / 10 land on the 10-s grid as PV = k;
+    # the 40-s hole (110 -> 150 s) leaves grid points 120, 130, 140 s empty.
+    assert row["ts"] == 10 and row["n_samples"] == 18
+    expected = np.where((np.arange(18) >= 12) & (np.arange(18) <= 14), np.nan, np.arange(18.0))
+    np.testing.assert_allclose(data.X[0, :, 0], expected)
+    assert "resampled to 18 rows at 10 s" in row["reason"] and "(3 rows)" in row["reason"]
+
+
+def test_export_text_layouts():
+    data, row = ok("blank_rows.csv")
+    np.testing.assert_allclose(data.X[0, :, 0], PV)
+    assert row["reason"] == "3 blank rows skipped"
+    data, row = ok("comments.csv")
+    np.testing.assert_allclose(data.X[0], np.column_stack([PV, OP, np.full(12, 50)]))
+    assert row["tag"] == "FIC300"
+    assert row["reason"] == "3 lines before the header skipped (titles or comments)"
+    data, row = ok("european_latin1.csv")
+    np.testing.assert_allclose(data.X[0], np.column_stack([PV, OP + 0.25, np.full(12, 50)]))
+    assert row["ts"] == 5 and row["start"] == START and row["loop_type"] == "temperature"
+    assert row["reason"] == "encoding latin-1; decimal comma"
+    data, row = ok("unicode_text.txt")
+    np.testing.assert_allclose(data.X[0, :, 1], OP)
+    assert row["ts"] == 60 and row["reason"] == "encoding utf-16" and row["tag"] == "LIC5"
+    data, row = ok("units_row.csv", ts=None)
+    np.testing.assert_allclose(data.X[0, :, 0], PV)
+    assert row["ts"] == 1 and "units" in row["reason"]
+    data, row = ok("date_and_time.csv")
+    assert row["ts"] == 30 and row["start"] == START
+
+
+def test_export_numeric_times():
+    _, row = ok("epoch_ms.csv")
+    assert row["start"] == START and row["ts"] == 0.25
+    assert row["reason"] == "time read as epoch milliseconds (start 2024-10-17 21:55:00)"
+    _, row = ok("epoch_s.csv")
+    assert row["start"] == START and row["ts"] == 2
+    _, row = ok("epoch_s.csv", time_unit="s")  # the user overrides the guess
+    assert pd.isna(row["start"]) and row["ts"] == 2 and row["reason"] == ""
+    _, row = ok("excel_serial.csv")
+    assert row["start"] == START and row["ts"] == 10
+    assert row["reason"].startswith("time read as Excel serial days")
+
+
+def test_export_wide_file_and_channels():
+    data, _ = ok("wide_two_loops.csv", n_loops=2)
+    assert data.meta["tag"].tolist() == ["FIC1", "LIC2"]
+    assert data.meta["loop_type"].tolist() == ["flow", "level"]
+    np.testing.assert_allclose(data.X[1], np.column_stack([20 + K, 70 - K, np.full(12, 20)]))
+    np.testing.assert_allclose(data.X[0, :, 0], PV)
+    data, row = ok("wide_two_loops.csv", channels={"pv": "LIC2.PV", "op": "LIC2.MV"})
+    assert row["tag"] == "LIC2" and np.isnan(data.X[0, :, 2]).all()
+
+
+def test_export_excel_and_parquet():
+    pytest.importorskip("openpyxl")
+    data, row = ok("workbook.xlsx")
+    assert np.flatnonzero(np.isnan(data.X[0, :, 0])).tolist() == [4]
+    assert row["start"] == START and row["ts"] == 10 and row["tag"] == "FIC8"
+    assert (
+        row["reason"] == "2 rows above the header skipped; 1 text values in PV read as NaN "
+        "('Bad' x1)"
+    )
+    pytest.importorskip("pyarrow")
+    data, row = ok("table.parquet")
+    np.testing.assert_allclose(data.X[0], np.column_stack([PV, OP, np.full(12, 50)]))
+    assert row["start"] == START and row["format"] == "parquet"
+
+
+def test_export_missing_extras(monkeypatch):
+    monkeypatch.setitem(sys.modules, "openpyxl", None)  # import fails as if not installed
+    monkeypatch.setitem(sys.modules, "pyarrow.parquet", None)
+    for name, extra in (("workbook.xlsx", "xlsx"), ("table.parquet", "parquet")):
+        row = read(name).meta.iloc[0]
+        assert row["status"] == "error" and f"pip install 'sktiction[{extra}]'" in row["reason"]
+
+
+@pytest.mark.parametrize(
+    ("name", "status", "reason"),
+    [
+        ("empty.csv", "error", "file is empty"),
+        ("no_time.csv", "error", "no time column); pass ts="),
+        ("no_pv.csv", "error", "name it with channels={'pv': ...}"),
+        ("broken.xlsx", "error", "not a readable Excel workbook"),
+        ("legacy.dat", "unsupported", "rename it to .csv"),
+        ("old_workbook.xls", "unsupported", "save it as .xlsx or CSV"),
+        ("index.csv", "unsupported", "folder index"),
+    ],
+)
+def test_export_unreadable_files_say_why(name, status, reason):
+    row = read(name).meta.iloc[0]
+    assert row["status"] == status and reason in row["reason"]
+
+
+def test_folder_with_nothing_readable(tmp_path):
+    write(tmp_path / "a.dat", "1 2 3\n")
+    listed = list_loop_files([tmp_path, tmp_path / "nope"])
+    assert listed["supported"].tolist() == [False, False, False]
+    assert (
+        listed["reason"].iloc[1] == "folder holds no readable loop file (1 files, none readable)"
+    )
+    assert listed["reason"].iloc[2] == "path does not exist"
+    with pytest.raises(ValueError, match="holds no readable loop file"):
+        read_loops(tmp_path)
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert list_loop_files(empty)["reason"].tolist() == [
+        "folder holds no readable loop file (no files)"
+    ]
+
+
+@needs_data
+def test_every_shared_data_file_reads_ok():
+    listed = list_loop_files(DATA)
+    files = sorted(str(p) for p in DATA.rglob("*") if p.is_file())
+    assert sorted(listed["path"]) == files
+    # Only the folder descriptions are not loops, and each says so.
+    skipped = listed.loc[~listed["supported"], "path"].map(lambda p: Path(p).name)
+    assert set(skipped) <= {"README.md", "LICENSE", "index.csv"}
+    assert listed.loc[~listed["supported"], "reason"].str.len().gt(0).all()
+    for path in listed.loc[listed["supported"], "path"]:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            meta = read_loop_file(path).meta
+        assert len(meta) == 1 and meta.loc[0, "status"] == "ok", (path, meta.loc[0, "reason"])
+        assert meta.loc[0, "reason"] == "", (path, meta.loc[0, "reason"])  # clean files

@@ -204,6 +204,11 @@ def _plan(names, channels):
             )
         groups.setdefault(prefix, {})[key] = pos[0]
     loops = [(prefix, g) for prefix, g in groups.items() if "pv" in g]
+    if len(loops) == 1 and loops[0][0] and "" in groups:
+        # One tagged loop beside untagged columns (FIC1.PV, FIC1.OP, SP): they belong to it.
+        shared = groups.pop("")
+        loops[0][1].update({k: v for k, v in shared.items() if k not in loops[0][1]})
+        groups[""] = {k: v for k, v in shared.items() if v not in loops[0][1].values()}
     if not loops:
         raise FileError(
             f"no PV column (looked for {'/'.join(_ALIASES['pv'])}, also after a "
@@ -212,7 +217,7 @@ def _plan(names, channels):
     notes = [
         f"columns {[names[i] for i in g.values()]} not used: no PV beside them"
         for prefix, g in groups.items()
-        if "pv" not in g
+        if g and "pv" not in g
     ]
     return time, sorted(loops, key=lambda item: min(item[1].values())), notes
 
@@ -313,6 +318,8 @@ def _read_file(path, channels, ts, strict, time_unit):
         if len(time_pos) == 2:
             raw = raw.astype(str).str.strip() + " " + frame[time_pos[1]].astype(str).str.strip()
         label = " + ".join(names[i] for i in time_pos)
+        if len(time_pos) == 2:
+            notes.append(f"time from columns {label}")
         if strict and raw.isna().any():
             raise FileError(f"time column {label!r} has {int(raw.isna().sum())} empty values")
         t, start, time_notes = parse_times(raw, time_format=info["time_format"], unit=time_unit)

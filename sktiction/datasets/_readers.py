@@ -294,7 +294,7 @@ def _open_xlsx(path):
     with book:
         sheet = None
         for name in book.sheet_names:
-            frame = book.parse(name, header=None, dtype=object)
+            frame = pd.read_excel(book, sheet_name=name, header=None, dtype=object)
             frame = frame.dropna(how="all", axis=1)
             if frame.notna().any().any():
                 sheet = name
