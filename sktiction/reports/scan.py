@@ -1,16 +1,22 @@
-"""Scan many loops at once: one row per loop, every verdict with its evidence and status."""
+"""Scan many loops at once: one row per loop, every verdict with its evidence and status.
+
+Each chunk of loops is analysed once: one :class:`~sktiction.features._loops.LoopAnalysis`
+per loop feeds the area-ratio rule, the shape library and (through a small adapter that
+does not care which model is loaded) the learned classifier, so no signal's cycles are
+computed twice.
+"""
 
 from __future__ import annotations
-
-import sys
 
 import numpy as np
 import pandas as pd
 from joblib import Parallel, delayed
+from sklearn.pipeline import FeatureUnion, Pipeline
 
-from .._validation import check_loops, loop_status
+from .._validation import STATUS_OK, check_loops, loop_status
 from ..classifiers import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
 from ..classifiers.shape_library import LOOP_TYPES
+from ..features._loops import LoopTransformer, analyse_loops
 
 REPORT_COLUMNS = [
     "status",
@@ -26,31 +32,155 @@ REPORT_COLUMNS = [
     "stiction_size_max",
     "reason",
 ]
+#: Probability from which the learned classifier's verdict is "stiction".
+STICTION_THRESHOLD = 0.5
+VERDICT_STICTION, VERDICT_HEALTHY, NO_VERDICT = "stiction", "no_stiction", "no_verdict"
 
 
-def _scan_chunk(loops, loop_types, learned):
-    """Verdicts of all three classifiers for one chunk of loops."""
-    ar = AreaRatioClassifier().fit(loops).diagnose(loops)
+def _applicability_gate():
+    """The input gate (:func:`~sktiction.classifiers.applicability.assess_applicability`)."""
+    try:
+        from ..classifiers.applicability import assess_applicability
+    except ImportError:  # the gate is optional until it lands in the package
+        return None
+    return assess_applicability
+
+
+def _shared_features(est, loops, analyses, status):
+    """Features of ``est`` (a loop transformer, or a union of them) from shared analyses.
+
+    Returns None when ``est`` is anything else: the caller then runs it on the raw loops.
+    """
+    if isinstance(est, LoopTransformer):
+        own = status if est._needs_op else None
+        return est.transform_analysed(loops, analyses, own)
+    if isinstance(est, FeatureUnion):
+        config = getattr(est, "_sklearn_output_config", {}).get("transform", "default")
+        if est.transformer_weights or config != "default":
+            return None
+        parts = []
+        for _, step in est.transformer_list:
+            part = _shared_features(step, loops, analyses, status)
+            if part is None:
+                return None
+            parts.append(part)
+        return np.hstack(parts)
+    return None
+
+
+class LearnedAdapter:
+    """The scan's one way to ask a learned classifier, whatever it is.
+
+    In order of preference:
+
+    - a classifier with ``diagnose_analysed(loops, analyses, status)`` or
+      ``diagnose(X)`` returning a ``probability`` column gets asked that, once; an
+      ``in_domain`` column says which loops it cannot judge (their ``reason`` is kept);
+    - a fitted pipeline whose first step is one of the package's loop transformers
+      (or a :class:`~sklearn.pipeline.FeatureUnion` of them) gets its features from
+      the loops' shared analyses;
+    - anything else is asked ``predict_proba(loops)[:, 1]``.
+
+    Parameters
+    ----------
+    classifier : fitted classifier
+        Anything with ``predict_proba`` on loops ``(n_loops, n_samples, 3)``.
+    """
+
+    def __init__(self, classifier):
+        self.classifier = classifier
+
+    def predict(self, loops, analyses, status):
+        """Stiction probability per loop, and the model's reason where it abstains.
+
+        Parameters
+        ----------
+        loops : ndarray of shape (n_loops, n_samples, 3)
+            Checked loops.
+        analyses : list of LoopAnalysis
+            Their shared analyses.
+        status : ndarray of str
+            :func:`~sktiction._validation.loop_status` with ``require_op=True``.
+
+        Returns
+        -------
+        proba : ndarray of shape (n_loops,)
+        abstain : ndarray of object, shape (n_loops,)
+            ``None`` where the model judges the loop, its reason elsewhere.
+        """
+        clf = self.classifier
+        abstain = np.full(len(loops), None, dtype=object)
+        report = None
+        if callable(getattr(clf, "diagnose_analysed", None)):
+            report = clf.diagnose_analysed(loops, analyses, status)
+        elif callable(getattr(clf, "diagnose", None)):
+            report = clf.diagnose(loops)
+        if report is not None and "probability" in report:
+            if "in_domain" in report:
+                out = ~report["in_domain"].to_numpy(dtype=bool)
+                reasons = report["reason"] if "reason" in report else "out_of_domain"
+                abstain[out] = np.broadcast_to(np.asarray(reasons, dtype=object), out.shape)[out]
+            return report["probability"].to_numpy(dtype=float), abstain
+        if isinstance(clf, Pipeline) and len(clf.steps) >= 2:
+            features = _shared_features(clf.steps[0][1], loops, analyses, status)
+            if features is not None:
+                for _, step in clf.steps[1:-1]:
+                    if step is not None and step != "passthrough":
+                        features = step.transform(features)
+                return clf.steps[-1][1].predict_proba(features)[:, 1], abstain
+        return np.asarray(clf.predict_proba(loops))[:, 1], abstain
+
+
+class _Rules:
+    """The fitted area-ratio rule and one shape library per loop type, built once."""
+
+    def __init__(self, sample):
+        self.area_ratio = AreaRatioClassifier().fit(sample)
+        self.shape = {lt: ShapeLibraryClassifier(loop_type=lt).fit(sample) for lt in LOOP_TYPES}
+
+
+def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
+    """Verdicts of all three classifiers for one chunk of checked loops, one pass each."""
+    if rules is None:
+        rules = _Rules(loops[:1])
+    if not isinstance(learned, LearnedAdapter):
+        learned = LearnedAdapter(learned)
+    analyses = analyse_loops(loops)
+    status = loop_status(loops, require_op=True)
+    ar = rules.area_ratio.diagnose_analysed(loops, analyses)
     parts = []
     for lt in pd.unique(loop_types):  # one shape-library row per loop type
         idx = np.flatnonzero(loop_types == lt)
-        part = ShapeLibraryClassifier(loop_type=lt).fit(loops[idx]).diagnose(loops[idx])
+        sub = [analyses[i] for i in idx]
+        part = rules.shape[lt].diagnose_analysed(loops[idx], sub, status[idx])
         parts.append(part.set_axis(idx))
     shape = pd.concat(parts).sort_index()
-    status = loop_status(loops, require_op=True)
     proba = np.full(len(loops), np.nan)
-    ok = status == "ok"
-    if ok.any():  # the learned model reads OP too: only loops that can be analysed
-        proba[ok] = learned.predict_proba(loops[ok])[:, 1]
+    ok = status == STATUS_OK
     reason = np.where(ok, shape["reason"].to_numpy(dtype=object), status)
-    sticky = ok & (proba >= 0.5)
+    if ok.any():  # the learned model reads OP too: only loops that can be analysed
+        idx = np.flatnonzero(ok)
+        p, abstain = learned.predict(loops[idx], [analyses[i] for i in idx], status[idx])
+        proba[idx] = p
+        judged = np.array([a is None for a in abstain])
+        reason[idx[~judged]] = abstain[~judged]
+        ok[idx[~judged]] = False
+    if gate is not None and ok.any():
+        idx = np.flatnonzero(ok)
+        sub_ts = None if ts is None else np.asarray(ts, dtype=float)[idx]
+        verdict = gate(loops[idx], ts=sub_ts)
+        out = ~verdict["applicable"].to_numpy(dtype=bool)
+        reason[idx[out]] = verdict["reason"].to_numpy(dtype=object)[out]
+        ok[idx[out]] = False
+    sticky = ok & (proba >= STICTION_THRESHOLD)
     # a size is only meaningful for a valve that is called sticky
     size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
     size[~sticky] = np.nan
     return pd.DataFrame(
         {
             "status": status,
-            "verdict": np.where(ok, np.where(sticky, "stiction", "no_stiction"), "no_verdict"),
+            "verdict": np.where(ok, np.where(sticky, VERDICT_STICTION, VERDICT_HEALTHY),
+                                NO_VERDICT),
             "stiction_probability": proba,
             "area_ratio": ar["area_ratio"].to_numpy(),
             "area_ratio_stiction": ar["prediction"].to_numpy(),
@@ -65,22 +195,75 @@ def _scan_chunk(loops, loop_types, learned):
     )
 
 
-def _scan_safely(loops, loop_types, learned):
+def _error_row(exc):
+    row = pd.DataFrame([dict.fromkeys(REPORT_COLUMNS, np.nan)])
+    row["status"] = "error"
+    row["verdict"] = NO_VERDICT
+    row["reason"] = f"{type(exc).__name__}: {exc}"
+    return row
+
+
+def _scan_safely(loops, loop_types, learned, rules=None, ts=None, gate=None):
     """One chunk; if it fails, loop by loop, so one bad loop never aborts a scan."""
     try:
-        return _scan_chunk(loops, loop_types, learned)
+        loops = check_loops(loops)
+        return _scan_chunk(loops, loop_types, learned, rules, ts, gate)
     except Exception:  # noqa: BLE001 - isolate the loop that fails, report it below
         rows = []
         for i in range(len(loops)):
+            one_ts = None if ts is None else np.asarray(ts)[i : i + 1]
             try:
-                rows.append(_scan_chunk(loops[i : i + 1], loop_types[i : i + 1], learned))
+                one = check_loops(loops[i : i + 1])
+                rows.append(_scan_chunk(one, loop_types[i : i + 1], learned, rules, one_ts, gate))
             except Exception as exc:  # noqa: BLE001 - becomes that loop's status
-                row = pd.DataFrame([dict.fromkeys(REPORT_COLUMNS, np.nan)])
-                row["status"] = "error"
-                row["verdict"] = "no_verdict"
-                row["reason"] = f"{type(exc).__name__}: {exc}"
-                rows.append(row)
+                rows.append(_error_row(exc))
         return pd.concat(rows, ignore_index=True)
+
+
+def loop_types_of(meta, n):
+    """Shape-library row of each loop: ``meta["loop_type"]`` when known, else ``auto``."""
+    loop_types = np.full(n, "auto", dtype=object)
+    if meta is not None and "loop_type" in meta:
+        known = meta["loop_type"].isin(LOOP_TYPES).to_numpy()
+        loop_types[known] = meta["loop_type"].to_numpy()[known]
+    return loop_types
+
+
+def sampling_times(meta):
+    """Per-loop sampling time from ``meta["ts"]``, or None."""
+    if meta is None or "ts" not in meta:
+        return None
+    return pd.to_numeric(meta["ts"], errors="coerce").to_numpy(dtype=float)
+
+
+def join_meta(meta, report):
+    """``meta`` columns in front of the report; the reader's ``status``/``reason`` (per
+    file) become ``input_status``/``input_reason`` so they do not shadow the scan's."""
+    if meta is None:
+        return report
+    meta = meta.rename(columns={c: f"input_{c}" for c in meta.columns if c in REPORT_COLUMNS})
+    return pd.concat([meta.reset_index(drop=True), report.reset_index(drop=True)], axis=1)
+
+
+def _as_batch(X):
+    """Loops to slice in chunks without copying the whole batch (checked per chunk)."""
+    if isinstance(X, np.ndarray) and X.ndim == 3 and np.issubdtype(X.dtype, np.number):
+        if 0 in X.shape:
+            raise ValueError(f"X is empty: shape {X.shape}.")
+        if X.shape[2] > 3:
+            raise ValueError(
+                f"X must have 1 to 3 channels (PV, OP, SP in that order); got {X.shape[2]}."
+            )
+        return X
+    return check_loops(X)
+
+
+def progress_bar(total, enabled, unit="loop"):
+    """A tqdm progress bar on standard error with rate and ETA (disabled when not wanted)."""
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, unit=unit, disable=not enabled, desc="scan", leave=True,
+                dynamic_ncols=True)
 
 
 def scan_loops(
@@ -92,32 +275,40 @@ def scan_loops(
     ``verdict`` and ``stiction_probability``; the area-ratio rule and the shape
     library give their own verdicts, and the shape library the stiction size (OP
     peak-to-peak over the sticky cycles, in OP units; NaN unless the verdict is
-    stiction). Loops that cannot be
-    analysed get ``status`` and ``reason`` and ``verdict = "no_verdict"``.
+    stiction). Each loop's signals are analysed once and the analysis shared by the
+    three. Loops that cannot be analysed get ``status`` and ``reason`` and
+    ``verdict = "no_verdict"``; so do loops the applicability check
+    (:func:`~sktiction.classifiers.applicability.assess_applicability`) rejects,
+    with its reason.
 
     Parameters
     ----------
     X : array-like of shape (n_loops, n_samples, n_channels)
-        Loops, channels PV, OP, SP, NaN-padded at the end.
+        Loops, channels PV, OP, SP, NaN-padded at the end. A numeric array is
+        checked and copied one chunk at a time, so the scan holds one extra chunk.
     meta : pandas.DataFrame or None, default=None
         One row per loop (e.g. from :func:`~sktiction.datasets.read_loops`); its
         columns are copied in front of the report (those named like a report
-        column get the prefix ``input_``, e.g. the reader's ``input_status``), and
-        a ``loop_type`` column
-        (flow, pressure, temperature, level) selects the shape-library row.
+        column get the prefix ``input_``, e.g. the reader's ``input_status``), a
+        ``loop_type`` column (flow, pressure, temperature, level) selects the
+        shape-library row and a ``ts`` column (s) is passed to the applicability check.
     classifier : fitted classifier or None, default=None
-        Learned classifier; ``None`` trains :func:`~sktiction.pretrained_classifier`.
+        Learned classifier; ``None`` uses :func:`~sktiction.pretrained_classifier`.
     chunk_size : int, default=64
         Loops per work unit.
     n_jobs : int or None, default=None
         Parallel workers (joblib) over chunks.
     progress : bool, default=False
-        Print progress to standard error.
+        Show a progress bar with rate and ETA on standard error (tqdm).
 
     Returns
     -------
     report : pandas.DataFrame
         One row per loop, in input order.
+
+    See Also
+    --------
+    scan_files : the same scan streamed from files, memory bounded by the chunk.
 
     Examples
     --------
@@ -129,31 +320,33 @@ def scan_loops(
     >>> scan_loops(X, classifier=clf)["status"].tolist()
     ['ok', 'ok', 'ok', 'ok']
     """
-    loops = check_loops(X)
-    n = len(loops)
+    batch = _as_batch(X)
+    n = len(batch)
     if meta is not None and len(meta) != n:
         raise ValueError(f"meta has {len(meta)} rows but X has {n} loops; they must match.")
-    loop_types = np.full(n, "auto", dtype=object)
-    if meta is not None and "loop_type" in meta:
-        known = meta["loop_type"].isin(LOOP_TYPES).to_numpy()
-        loop_types[known] = meta["loop_type"].to_numpy()[known]
-    learned = classifier if classifier is not None else pretrained_classifier()
-    starts = range(0, n, max(1, int(chunk_size)))
+    chunk_size = int(chunk_size)
+    if chunk_size < 1:
+        raise ValueError(f"chunk_size must be an integer >= 1; got {chunk_size!r}.")
+    loop_types = loop_types_of(meta, n)
+    ts = sampling_times(meta)
+    learned = LearnedAdapter(classifier if classifier is not None else pretrained_classifier())
+    rules = _Rules(check_loops(batch[:1]))
+    gate = _applicability_gate()
     jobs = (
-        delayed(_scan_safely)(loops[s : s + chunk_size], loop_types[s : s + chunk_size], learned)
-        for s in starts
+        delayed(_scan_safely)(
+            batch[s : s + chunk_size],
+            loop_types[s : s + chunk_size],
+            learned,
+            rules,
+            None if ts is None else ts[s : s + chunk_size],
+            gate,
+        )
+        for s in range(0, n, chunk_size)
     )
     parts = []
-    for k, part in enumerate(Parallel(n_jobs=n_jobs, return_as="generator")(jobs)):
-        parts.append(part)
-        if progress:
-            done = min(n, (k + 1) * chunk_size)
-            print(f"\rscanned {done}/{n} loops", end="", file=sys.stderr, flush=True)
-    if progress:
-        print(file=sys.stderr)
+    with progress_bar(n, progress) as bar:
+        for part in Parallel(n_jobs=n_jobs, return_as="generator")(jobs):
+            parts.append(part)
+            bar.update(len(part))
     report = pd.concat(parts, ignore_index=True)[REPORT_COLUMNS]
-    if meta is not None:
-        # the reader's own status/reason (per file) must not shadow the scan's (per loop)
-        meta = meta.rename(columns={c: f"input_{c}" for c in meta.columns if c in REPORT_COLUMNS})
-        report = pd.concat([meta.reset_index(drop=True), report], axis=1)
-    return report
+    return join_meta(meta, report)

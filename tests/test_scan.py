@@ -1,0 +1,142 @@
+"""The one-pass scan: the same report as the three classifiers run one by one, streamed
+from files with bounded memory, and the same report on a dask cluster."""
+
+import numpy as np
+import pandas as pd
+import pytest
+from sklearn.ensemble import HistGradientBoostingClassifier
+from sklearn.pipeline import FeatureUnion, Pipeline
+
+from sktiction import AreaRatio, LoopDescriptors, StictionModelFit, TemplateDistances
+from sktiction.classifiers import AreaRatioClassifier, ShapeLibraryClassifier
+from sktiction.datasets import make_loops
+from sktiction.reports import scan as scan_module
+from sktiction.reports import scan_loops
+
+
+@pytest.fixture(scope="module")
+def small_learned():
+    """A learned pipeline of the package's transformers (the scan reads their features
+    from its shared pass), fitted on a few simulated loops."""
+    X, y = make_loops(80, n_samples=1000, slip_fraction=0.25, random_state=0)
+    features = FeatureUnion([("area", AreaRatio()), ("templates", TemplateDistances()),
+                             ("descriptors", LoopDescriptors()),
+                             ("valve_model", StictionModelFit())])
+    model = HistGradientBoostingClassifier(max_iter=40, random_state=0)
+    return Pipeline([("features", features), ("model", model)]).fit(X, y)
+
+
+@pytest.fixture
+def no_gate(monkeypatch):
+    monkeypatch.setattr(scan_module, "_applicability_gate", lambda: None)
+
+
+def reference_scan(X, loop_types, learned):
+    """The scan as it was before the shared pass: each classifier on its own (reference)."""
+    from sktiction._validation import check_loops, loop_status
+
+    loops = check_loops(X)
+    ar = AreaRatioClassifier().fit(loops).diagnose(loops)
+    parts = []
+    for lt in pd.unique(loop_types):
+        idx = np.flatnonzero(loop_types == lt)
+        part = ShapeLibraryClassifier(loop_type=lt).fit(loops[idx]).diagnose(loops[idx])
+        parts.append(part.set_axis(idx))
+    shape = pd.concat(parts).sort_index()
+    status = loop_status(loops, require_op=True)
+    ok = status == "ok"
+    proba = np.full(len(loops), np.nan)
+    proba[ok] = learned.predict_proba(loops[ok])[:, 1]
+    sticky = ok & (proba >= 0.5)
+    size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
+    size[~sticky] = np.nan
+    return pd.DataFrame({
+        "status": status,
+        "verdict": np.where(ok, np.where(sticky, "stiction", "no_stiction"), "no_verdict"),
+        "stiction_probability": proba,
+        "area_ratio": ar["area_ratio"].to_numpy(),
+        "area_ratio_stiction": ar["prediction"].to_numpy(),
+        "shape_confidence": shape["score"].to_numpy(dtype=float),
+        "shape_stiction": shape["prediction"].to_numpy(dtype=int),
+        "shape_loop_type": shape["loop_type"].to_numpy(),
+        "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
+        "stiction_size_mean": size[:, 0],
+        "stiction_size_max": size[:, 1],
+        "reason": np.where(ok, shape["reason"].to_numpy(dtype=object), status),
+    })
+
+
+def mixed_loops():
+    X, _ = make_loops(14, n_samples=2500, random_state=11)
+    Xs, _ = make_loops(6, n_samples=2500, stiction_fraction=1.0, random_state=12)
+    X = np.concatenate([X, Xs])
+    X[2, 300:340] = np.nan  # gap
+    X[4, :, 1] = np.nan  # no OP
+    X[6, 1500:] = np.nan  # shorter loop
+    X[8, :, 0] = 3.0  # constant PV
+    types = np.array(["auto", "flow", "level", "pressure", "auto"] * 4, dtype=object)
+    return X, types
+
+
+def test_one_pass_scan_equals_the_classifiers_run_one_by_one(small_learned, no_gate):
+    X, types = mixed_loops()
+    expected = reference_scan(X, types, small_learned)
+    got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=small_learned,
+                     chunk_size=7)
+    got = got.drop(columns="loop_type")
+    assert set(got["verdict"]) == {"stiction", "no_stiction", "no_verdict"}
+    assert (got["n_cycles"] > 0).sum() >= 4 and got["area_ratio"].notna().sum() >= 4
+    pd.testing.assert_frame_equal(got, expected, check_dtype=False, rtol=1e-12)
+
+
+def test_learned_model_is_asked_through_predict_proba_when_it_is_not_a_pipeline(no_gate):
+    class Constant:
+        """Any classifier: the scan must not depend on how it computes its features."""
+
+        def predict_proba(self, X):
+            return np.column_stack([np.full(len(X), 0.3), np.full(len(X), 0.7)])
+
+    X, types = mixed_loops()
+    report = scan_loops(X, classifier=Constant())
+    ok = report["status"].eq("ok")
+    assert report.loc[ok, "stiction_probability"].eq(0.7).all()
+    assert report.loc[ok, "verdict"].eq("stiction").all()
+    assert report.loc[~ok, "verdict"].eq("no_verdict").all()
+
+
+def test_a_model_that_abstains_gives_no_verdict_with_its_reason(no_gate):
+    class Abstaining:
+        def predict_proba(self, X):
+            return np.column_stack([np.zeros(len(X)), np.ones(len(X))])
+
+        def diagnose(self, X):
+            inside = np.arange(len(X)) % 2 == 0
+            return pd.DataFrame({"probability": np.ones(len(X)), "in_domain": inside,
+                                 "reason": np.where(inside, "ok", "unlike_training")})
+
+    X, _ = make_loops(4, n_samples=1500, random_state=1)
+    report = scan_loops(X, classifier=Abstaining())
+    assert report["stiction_probability"].tolist() == [1.0] * 4
+    assert report["verdict"].tolist() == ["stiction", "no_verdict"] * 2
+    assert report["reason"].tolist()[1::2] == ["unlike_training"] * 2
+
+
+def test_loops_the_gate_rejects_get_no_verdict_and_its_reason(small_learned, monkeypatch):
+    def gate(loops, ts=None):
+        first = np.arange(len(loops)) == 0
+        return pd.DataFrame({"applicable": ~first, "reason": np.where(first, "quantised", "ok")})
+
+    monkeypatch.setattr(scan_module, "_applicability_gate", lambda: gate)
+    X, _ = make_loops(6, n_samples=1500, stiction_fraction=1.0, random_state=2)
+    report = scan_loops(X, classifier=small_learned, chunk_size=3)
+    rejected = report.index.isin([0, 3])  # the first loop of each chunk
+    assert report.loc[rejected, "verdict"].eq("no_verdict").all()
+    assert report.loc[rejected, "reason"].eq("quantised").all()
+    assert report.loc[rejected, "stiction_size_mean"].isna().all()
+    assert report.loc[~rejected, "verdict"].isin(["stiction", "no_stiction"]).all()
+
+
+def test_scan_rejects_bad_chunk_size(small_learned):
+    X, _ = make_loops(2, n_samples=1000, random_state=0)
+    with pytest.raises(ValueError, match="chunk_size"):
+        scan_loops(X, classifier=small_learned, chunk_size=0)
