@@ -279,7 +279,7 @@ def _check_args(ts, channels, time_unit):
     return ts
 
 
-def _read_file(path, channels, ts, strict, time_unit):
+def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
     """Read one file; return (X, rows, frames) or raise FileError / TimeError."""
     if path.is_dir():
         raise FileError("is a folder: read it with read_loops or list its files first")
@@ -298,25 +298,14 @@ def _read_file(path, channels, ts, strict, time_unit):
     if n == 0:
         raise FileError("file has no data rows")
     decimal = "," if "decimal comma" in info["notes"] else "."
-    # Values of every loop side by side: pv, op, sp, mode per loop.
-    values = np.full((n, 4 * len(loops)), np.nan)
-    loop_notes = [[] for _ in loops]
-    for j, (_, g) in enumerate(loops):
-        for k, key in enumerate(_LOOP_KEYS):
-            if key not in g:
-                continue
-            col = frame[g[key]]
-            if key == "mode":
-                values[:, 4 * j + k] = _mode(col)
-                continue
-            values[:, 4 * j + k], counts = _numeric(col, names[g[key]], decimal, strict)
-            if counts:
-                loop_notes[j].append(_status_note(counts, key.upper()))
+    values, loop_notes = _channel_values(frame, loops, names, decimal, strict)
     start, step = pd.NaT, None
     if time_pos:
         raw = frame[time_pos[0]]
         if len(time_pos) == 2:
             raw = raw.astype(str).str.strip() + " " + frame[time_pos[1]].astype(str).str.strip()
+    del frame  # the channels are in ``values`` now; keep memory to one copy of the file
+    if time_pos:
         label = " + ".join(names[i] for i in time_pos)
         if len(time_pos) == 2:
             notes.append(f"time from columns {label}")
@@ -345,9 +334,12 @@ def _read_file(path, channels, ts, strict, time_unit):
         notes.append(f"header declares {info['declared_rows']} rows, file has {n}")
     m = len(values)
     X = np.empty((len(loops), m, 3))
+    for j in range(len(loops)):
+        X[j] = values[:, 4 * j : 4 * j + 3]
+    modes = values[:, 3::4].copy() if any("mode" in g for _, g in loops) else None
+    del values
     rows, frames = [], []
     for j, (prefix, g) in enumerate(loops):
-        X[j] = values[:, 4 * j : 4 * j + 3]
         tag = prefix or (info["tag"] if len(loops) == 1 and info["tag"] else path.stem)
         if info["format"] == "historian" and len(loops) == 1 and info["tag"]:
             tag = info["tag"]
@@ -362,20 +354,39 @@ def _read_file(path, channels, ts, strict, time_unit):
             X[j] = np.nan  # a loop in error carries no data, as in read_loops(on_error="skip")
         missing = np.isnan(pv) | (np.isnan(op) if "op" in g else False)
         isa, loop_type = _loop_type(tag)
-        mode = values[:, 4 * j + 3]
+        mode = modes[:, j] if modes is not None else np.full(m, np.nan)
         rows.append({
             "format": info["format"], "tag": tag, "isa": isa, "loop_type": loop_type,
             "ts": step, "n_samples": m, "n_nan": int(missing.sum()),
             "auto_fraction": float(np.mean(mode == 1)) if "mode" in g else np.nan,
             "start": start, "status": status, "reason": "; ".join(reason),
         })  # fmt: skip
-        frames.append(
-            pd.DataFrame({
-                "time": t if time_pos else np.arange(m) * step, "pv": pv, "op": op,
-                "sp": X[j, :, 2], "mode": mode,
-            })  # fmt: skip
-        )
+        if return_frames:
+            frames.append(
+                pd.DataFrame({
+                    "time": t if time_pos else np.arange(m) * step, "pv": pv, "op": op,
+                    "sp": X[j, :, 2], "mode": mode,
+                })  # fmt: skip
+            )
     return X, rows, frames
+
+
+def _channel_values(frame, loops, names, decimal, strict):
+    """Every loop's pv, op, sp, mode side by side as floats, and notes per loop."""
+    values = np.full((len(frame), 4 * len(loops)), np.nan)
+    loop_notes = [[] for _ in loops]
+    for j, (_, g) in enumerate(loops):
+        for k, key in enumerate(_LOOP_KEYS):
+            if key not in g:
+                continue
+            col = frame[g[key]]
+            if key == "mode":
+                values[:, 4 * j + k] = _mode(col)
+                continue
+            values[:, 4 * j + k], counts = _numeric(col, names[g[key]], decimal, strict)
+            if counts:
+                loop_notes[j].append(_status_note(counts, key.upper()))
+    return values, loop_notes
 
 
 def _strict_order(t, raw):
@@ -488,7 +499,7 @@ default="auto"
     path = Path(path)
     base = {"file": path.name, "path": str(path)}
     try:
-        X, rows, frames = _read_file(path, channels, ts, strict, time_unit)
+        X, rows, frames = _read_file(path, channels, ts, strict, time_unit, return_frames)
     except (FileError, TimeError, OSError) as exc:
         status = STATUS_UNSUPPORTED if isinstance(exc, _Unsupported) else STATUS_ERROR
         message = str(exc) if not isinstance(exc, OSError) else f"cannot open: {exc.strerror}"

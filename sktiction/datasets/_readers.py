@@ -253,20 +253,28 @@ def _open_text(path):
         skip = header + 1 + skip_after
     info["notes"] = notes
 
-    def reader(positions):
+    def read_csv(positions, errors):
         with warnings.catch_warnings():
             # Mixed numbers and status text in one column are expected and handled later.
             warnings.simplefilter("ignore", pd.errors.DtypeWarning)
+            return pd.read_csv(
+                path, sep=sep, header=None, skiprows=skip, usecols=positions,
+                encoding=encoding, encoding_errors=errors, decimal=decimal,
+                skip_blank_lines=False, index_col=False, engine="c",
+            )  # fmt: skip
+
+    def reader(positions):
+        try:
             try:
-                return pd.read_csv(
-                    path, sep=sep, header=None, skiprows=skip, usecols=positions,
-                    encoding=encoding, encoding_errors="replace", decimal=decimal,
-                    skip_blank_lines=False, index_col=False, engine="c",
-                )  # fmt: skip
-            except pd.errors.EmptyDataError as exc:
-                raise FileError("file has no data rows") from exc
-            except (pd.errors.ParserError, ValueError) as exc:
-                raise FileError(f"rows could not be parsed ({exc})") from exc
+                # Strict decoding stays in the C parser; "replace" doubles the memory.
+                return read_csv(positions, "strict")
+            except UnicodeDecodeError:
+                notes.append(f"bytes that are not {encoding} replaced")
+                return read_csv(positions, "replace")
+        except pd.errors.EmptyDataError as exc:
+            raise FileError("file has no data rows") from exc
+        except (pd.errors.ParserError, ValueError) as exc:
+            raise FileError(f"rows could not be parsed ({exc})") from exc
 
     return Table(names, info, reader)
 

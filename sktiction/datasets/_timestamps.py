@@ -86,32 +86,44 @@ def _try_format(text, fmt, errors):
         return pd.to_datetime(text, format=fmt, errors=errors)
 
 
+def _is_text(value):
+    return isinstance(value, str) or value is None
+
+
+def _fits(sample, fmt):
+    try:
+        _try_format(sample, fmt, "raise")
+    except (ValueError, TypeError, OverflowError):
+        return False
+    return True
+
+
 def _text_times(raw, time_format):
-    """Parse text (or datetime objects) to datetimes; return (stamps, note)."""
-    text = raw.astype(object).where(raw.notna(), None)
-    text = text.map(lambda s: s.strip() if isinstance(s, str) else s)
-    sample = text.dropna().iloc[:_SAMPLE]
+    """Parse text (or datetime objects) to datetimes; return (stamps, notes)."""
+    strings = isinstance(raw.dtype, pd.StringDtype) or raw.map(_is_text).all()
+
+    def clean(part):
+        return part.astype("str").str.strip().where(part.notna(), None) if strings else part
+
+    sample = clean(raw.dropna().iloc[:_SAMPLE])
     if len(sample) == 0:
         raise TimeError("time column is empty")
     candidates = [f for f in (time_format, "ISO8601", "ISO8601-utc") if f]
-    candidates += [*_TEXT_FORMATS, "mixed"]
-    fits = []
-    for fmt in candidates:
-        try:
-            _try_format(sample, fmt, "raise")
-        except (ValueError, TypeError, OverflowError):
-            continue
-        fits.append(fmt)
-    if not fits:
+    fmt = next((f for f in [*candidates, *_TEXT_FORMATS, "mixed"] if _fits(sample, f)), None)
+    if fmt is None:
         raise TimeError(
             f"values are not times (first: {sample.iloc[0]!r}); name the time column with "
             f"channels={{'time': ...}} or remove it and pass ts="
         )
     notes = []
-    stamps = _try_format(text, fits[0], "coerce")
-    fmt = fits[0]
-    if "%d/%m" in fmt and any("%m/%d" in f for f in fits[1:]):
+    if "%d/%m" in fmt and _fits(sample, fmt.replace("%d/%m", "%m/%d")):
         notes.append("dates could be day/month or month/day: read day first")
+    # In chunks: the parser turns text into Python strings, a copy we keep small.
+    chunk = 1 << 17
+    stamps = pd.concat(
+        [_try_format(clean(raw.iloc[i : i + chunk]), fmt, "coerce")
+         for i in range(0, len(raw), chunk)]
+    )  # fmt: skip
     if getattr(stamps.dt, "tz", None) is not None:
         stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
         notes.append("time zone offsets converted to UTC")
@@ -165,9 +177,13 @@ default="auto"
             stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
             notes.append("time zone converted to UTC")
     else:
-        numeric = pd.to_numeric(raw, errors="coerce") if raw.dtype.kind not in "fiu" else raw
         present = raw.notna().to_numpy()
-        if present.any() and numeric.notna().to_numpy()[present].all():
+        numeric = raw
+        if raw.dtype.kind not in "fiu":
+            # Look at a sample first: converting a million date strings to numbers is slow.
+            head = pd.to_numeric(raw[present][:_SAMPLE], errors="coerce")
+            numeric = pd.to_numeric(raw, errors="coerce") if head.notna().all() else None
+        if numeric is not None and present.any() and numeric.notna().to_numpy()[present].all():
             t, start, note = _numeric_times(numeric.to_numpy(dtype=float), unit)
             return t, start, [note] if note else []
         stamps, notes = _text_times(raw, time_format)
