@@ -46,10 +46,102 @@ def _design(pv, x, n_lags):
 
 
 def _sse(pv, x, n_lags):
+    """Residual sum of squares of the ARX fit by least squares on the design matrix."""
     A = _design(pv, x, n_lags)
     b = pv[n_lags:]
     coef, *_ = np.linalg.lstsq(A, b, rcond=None)
     r = b - A @ coef
+    return float(r @ r)
+
+
+@njit(cache=True, nogil=True)
+def _window_sum(x, y, lag, k, n_lags, core):
+    """``sum over t in [n_lags, n) of x[t - k] * y[t - k + lag]``, given ``core``, the sum
+    over s in [n_lags, n - n_lags) of ``x[s] * y[s + lag]`` that every window contains."""
+    n = x.size
+    acc = core
+    for s in range(n_lags - k, n_lags):
+        acc += x[s] * y[s + lag]
+    for s in range(n - n_lags, n - k):
+        acc += x[s] * y[s + lag]
+    return acc
+
+
+@njit(cache=True, nogil=True)
+def _grid_normal_equations(pv, op, bands, n_lags):
+    """Normal equations ``G = A'A``, ``h = A'b`` of the ARX design of :func:`_design`
+    for the valve position ``_play(op, d)`` of every band d.
+
+    Every cross-product is a sum over a window that slides with the lag: one dot
+    product per lag difference over the part all windows share, plus at most
+    ``n_lags`` terms at each end, so each band costs O(n * n_lags) without ever
+    building the design matrix.
+    """
+    n = pv.size
+    m = n_lags + 3
+    lo, hi = n_lags, n - n_lags
+    Gs = np.empty((bands.size, m, m))
+    hs = np.empty((bands.size, m))
+    b = pv[n_lags:]
+    p1, p2 = pv[n_lags - 1 : n - 1], pv[n_lags - 2 : n - 2]
+    ones = np.ones(n)
+    core_x = np.empty(n_lags)
+    core_xp = np.empty(n_lags + 3)
+    for g in range(bands.size):
+        x = _play(op, bands[g])
+        G, h = Gs[g], hs[g]
+        G[0, 0], G[0, 1], G[1, 1] = np.dot(p1, p1), np.dot(p1, p2), np.dot(p2, p2)
+        G[1, 0] = G[0, 1]
+        h[0], h[1] = np.dot(p1, b), np.dot(p2, b)
+        G[0, m - 1] = G[m - 1, 0] = p1.sum()
+        G[1, m - 1] = G[m - 1, 1] = p2.sum()
+        G[m - 1, m - 1] = n - n_lags
+        h[m - 1] = b.sum()
+        xc = x[lo:hi]
+        for lag in range(n_lags):  # x with x, lag difference 0..n_lags-1
+            core_x[lag] = np.dot(xc, x[lo + lag : hi + lag])
+        for j in range(n_lags + 3):  # x with pv, lags -2..n_lags
+            core_xp[j] = np.dot(xc, pv[lo + j - 2 : hi + j - 2])
+        core_1 = xc.sum()
+        for a in range(n_lags):
+            ka = a + 1
+            for c in range(a, n_lags):
+                kc = c + 1
+                v = _window_sum(x, x, c - a, kc, n_lags, core_x[c - a])
+                G[2 + a, 2 + c] = v
+                G[2 + c, 2 + a] = v
+            for q in range(2):  # pv lags 1 and 2
+                lag = ka - (q + 1)
+                v = _window_sum(x, pv, lag, ka, n_lags, core_xp[lag + 2])
+                G[2 + a, q] = v
+                G[q, 2 + a] = v
+            h[2 + a] = _window_sum(x, pv, ka, ka, n_lags, core_xp[ka + 2])
+            v = _window_sum(x, ones, 0, ka, n_lags, core_1)
+            G[2 + a, m - 1] = v
+            G[m - 1, 2 + a] = v
+    return Gs, hs, np.dot(b, b)
+
+
+def _solve_normal(Gs, hs):
+    """Least-squares coefficients from a stack of normal equations, one batched call.
+
+    Columns are scaled to a unit diagonal and the scaled Gram matrices inverted on
+    their well-determined eigen-directions (a pseudo-inverse), so a valve position
+    that barely moves (collinear columns) gives the least-norm fit, as ``lstsq`` does.
+    """
+    d = np.sqrt(np.einsum("gii->gi", Gs))
+    d[d == 0] = 1.0
+    w, V = np.linalg.eigh(Gs / (d[:, :, None] * d[:, None, :]))
+    keep = w > 1e-15 * w[:, -1:]
+    proj = np.einsum("gij,gi->gj", V, hs / d)
+    proj = np.where(keep, proj / np.where(keep, w, 1.0), 0.0)
+    return np.einsum("gij,gj->gi", V, proj) / d
+
+
+def _residual_sse(pv, x, n_lags, coef):
+    """``|b - A coef|^2`` on the design itself: exact for the coefficients given, and
+    off the least squares only to second order in their error."""
+    r = pv[n_lags:] - _design(pv, x, n_lags) @ coef
     return float(r @ r)
 
 
@@ -95,14 +187,25 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     if span == 0 or np.ptp(pv) == 0:
         return np.nan, np.nan
     fracs = np.geomspace(0.002, 0.6, 24) if grid is None else np.asarray(grid, dtype=float)
-    base = _sse(pv, op, n_lags)
+    # shifting PV and OP changes no residual (the model has an intercept and the play
+    # operator commutes with a shift); centred, the normal equations lose no precision
+    pv = pv - pv.mean()
+    op = op - op.mean()
+    # every band's fit from its normal equations (O(n) per band, no design matrix);
+    # band 0 is the linear model on OP itself (the play operator with d = 0 is u)
+    bands = np.concatenate([[0.0], fracs * span])
+    Gs, hs, bb = _grid_normal_equations(pv, op, bands, n_lags)
+    coefs = _solve_normal(Gs, hs)
+    sses = bb - np.einsum("gi,gi->g", coefs, hs)
+    best = 1 + int(np.argmin(sses[1:]))
+    # the two residuals that are reported, recomputed on the design itself
+    base = _residual_sse(pv, op, n_lags, coefs[0])
     if base == 0:
         return 0.0, 0.0
-    sses = np.array([_sse(pv, _play(op, f * span), n_lags) for f in fracs])
-    best = int(np.argmin(sses))
-    if sses[best] >= base:
+    sse_best = _residual_sse(pv, _play(op, bands[best]), n_lags, coefs[best])
+    if sse_best >= base:
         return 0.0, 0.0
-    return 1.0 - sses[best] / base, float(fracs[best] * span)
+    return 1.0 - sse_best / base, float(bands[best])
 
 
 class StictionModelFit(LoopTransformer):
