@@ -209,3 +209,100 @@ def test_a_constant_op_gives_no_verdict(clf, loops, learned):
     assert report.loc[[2, 5], "reason"].str.contains("constant").all(), report["reason"]
     others = [0, 1, 3, 4, 6, 7, 8, 9]
     assert _same(_scores(clf, Xc)[others], _scores(clf, X)[others])
+
+
+# Known values: each transformer on signals built here whose answer is known.
+
+
+def _asymmetric_loop(peak_at, noise=0.0, period=200, n_cycles=12, seed=0):
+    """Control error of triangular half-cycles peaking at ``peak_at`` of each half:
+    area before the peak over area after it is ``peak_at / (1 - peak_at)``. The peak
+    falls on a sample (``peak_at * period / 2`` is an integer)."""
+    h = period // 2
+    half = np.interp(np.arange(h), [0, peak_at * h, h], [0, 1, 0])
+    e = np.tile(np.concatenate([half, -half]), n_cycles)
+    e = e + noise * np.random.default_rng(seed).standard_normal(e.size)
+    op = 50 + 0.05 * np.cumsum(e)  # integral action
+    return np.stack([10 - e, op, np.full(e.size, 10.0)], axis=-1)[None]
+
+
+@pytest.mark.parametrize("peak_at", [0.25, 0.5, 0.75])
+@pytest.mark.parametrize("filt", [None, "horch"])
+def test_area_ratio_of_known_half_cycles(peak_at, filt):
+    """Singhal & Salsbury (2005): R = A1 / A2 per half-cycle; Horch's filter runs forwards
+    and backwards, so it moves no peak and keeps R on a clean signal."""
+    Z = AreaRatio(filter=filt).fit_transform(_asymmetric_loop(peak_at))[0]
+    names = list(AreaRatio().fit(_asymmetric_loop(0.5)).get_feature_names_out())
+    assert Z[names.index("oscillating")] == 1
+    assert Z[names.index("area_ratio_median")] == pytest.approx(peak_at / (1 - peak_at), rel=0.03)
+    assert Z[names.index("n_half_cycles")] >= 20
+
+
+def test_area_ratio_filter_and_min_cycles_are_used():
+    X = _asymmetric_loop(0.75, noise=0.3)
+    assert not _same(AreaRatio(filter="horch").fit_transform(X), AreaRatio().fit_transform(X))
+    clean = _asymmetric_loop(0.75)  # 12 cycles
+    assert AreaRatio(min_cycles=1).fit_transform(clean)[0, -1] == 1
+    assert AreaRatio(min_cycles=30).fit_transform(clean)[0, -1] == 0
+    with pytest.raises(ValueError, match="min_cycles"):
+        AreaRatio(min_cycles=0).fit(clean)
+
+
+def test_loops_that_do_not_oscillate_are_said_so():
+    rng = np.random.default_rng(3)
+    n = 2000
+    noise = np.stack([10 + rng.standard_normal(n), 50 + rng.standard_normal(n),
+                      np.full(n, 10.0)], axis=-1)[None]  # fmt: skip
+    for est in (AreaRatio(), TemplateDistances()):
+        names = list(clone(est).fit(noise).get_feature_names_out())
+        Z = clone(est).fit_transform(noise)[0]
+        assert Z[names.index("oscillating")] == 0
+        assert np.isnan(np.delete(Z, names.index("oscillating"))).all()
+
+
+def _play(u, d):
+    x = np.empty_like(u)
+    x[0] = u[0]
+    for t in range(1, u.size):
+        x[t] = min(max(x[t - 1], u[t] - d / 2), u[t] + d / 2)
+    return x
+
+
+@pytest.mark.parametrize("band", [0.0, 1.0, 3.0, 6.0])
+def test_stiction_model_fit_finds_a_known_dead_band(band):
+    """PV from OP through a valve with a dead band ``band`` (% of span) and a lag."""
+    from scipy.signal import lfilter
+
+    t = np.arange(3000)
+    op = 50 + 10 * np.interp(t % 300, [0, 150, 300], [-1, 1, -1]) + 2 * np.sin(2 * np.pi * t / 77)
+    pv = 20 + lfilter([0.1], [1, -0.9], _play(op, band) - 50)
+    pv = pv + 0.01 * np.random.default_rng(0).standard_normal(t.size)
+    X = np.stack([pv, op, np.full(t.size, 20.0)], axis=-1)[None]
+    est = StictionModelFit().fit(X)
+    got = dict(zip(est.get_feature_names_out(), est.transform(X)[0]))
+    if band == 0:  # a linear valve: the dead band explains nothing
+        assert got["stiction_fit_band"] < 0.1 and got["stiction_fit_gain"] < 0.05
+    else:  # grid of bands 1.28 apart: within 20 %
+        assert got["stiction_fit_band"] == pytest.approx(band, rel=0.2)
+        assert got["stiction_fit_band_share"] == pytest.approx(band / np.ptp(op), rel=0.2)
+        assert got["stiction_fit_gain"] > 0.3
+
+
+@pytest.mark.parametrize("lag", [0, 10, 30])
+def test_loop_descriptors_read_a_known_delay_and_saturation(lag):
+    t = np.arange(3000)
+    op = 50 + 5 * np.sin(2 * np.pi * t / 200)
+    op = op + 0.1 * np.random.default_rng(lag).standard_normal(t.size)
+    pv = np.roll(op, lag)  # PV is OP delayed by `lag` samples
+    X = np.stack([pv, op], axis=1)[None]
+    est = LoopDescriptors(max_lag=100).fit(X)
+    got = dict(zip(est.get_feature_names_out(), est.transform(X)[0]))
+    assert got["ccf_peak_lag"] == pytest.approx(lag / 100)
+    assert got["ccf_zero_lag"] == pytest.approx(np.cos(2 * np.pi * lag / 200), abs=0.03)
+    assert got["pv_op_jump_ratio"] == pytest.approx(1.0, abs=0.05)
+    assert got["op_saturated_share"] == 0.0
+    capped = np.minimum(op, 53.0)  # OP pinned at its maximum 30 % of the time
+    est = LoopDescriptors().fit(np.stack([pv, capped], axis=1)[None])
+    got = dict(zip(est.get_feature_names_out(),
+                   est.transform(np.stack([pv, capped], axis=1)[None])[0]))  # fmt: skip
+    assert got["op_saturated_share"] == pytest.approx(np.mean(capped == 53.0), abs=0.005)
