@@ -10,6 +10,7 @@ import pandas as pd
 import pytest
 
 from sktiction.datasets import list_loop_files, read_loop_file, read_loops
+from sktiction.datasets._timestamps import TimeError, parse_times, regularise
 
 HEADER = (
     "PROCESSDATA\t{tag} Data\tyyyy-MM-dd HH:mm:ss\r\n"
@@ -443,3 +444,66 @@ def test_every_shared_data_file_reads_ok():
             meta = read_loop_file(path).meta
         assert len(meta) == 1 and meta.loc[0, "status"] == "ok", (path, meta.loc[0, "reason"])
         assert meta.loc[0, "reason"] == "", (path, meta.loc[0, "reason"])  # clean files
+
+
+# ---- time columns ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("values", "seconds", "start", "note"),
+    [
+        # day > 12 settles the order, in the sample or only later in the column
+        (["13/01/2024 10:00:00", "14/01/2024 10:00:00"], [0, 86400], "2024-01-13 10:00", ""),
+        ([f"01/{d:02d}/2024 10:00:00" for d in range(1, 20)], [0, 86400], "2024-01-01 10:00", ""),
+        (
+            ["01/02/2024 10:00:00", "01/03/2024 10:00:00"],
+            [0, 29 * 86400],
+            "2024-02-01 10:00",
+            "dates could be day/month or month/day: read day first",
+        ),
+        (["17.10.2024 21:55:00", "17.10.2024 21:55:05"], [0, 5], "2024-10-17 21:55", ""),
+        (
+            ["2024-03-31T01:59:00+01:00", "2024-03-31T03:00:00+02:00"],
+            [0, 60],
+            "2024-03-31 00:59",
+            "time zone offsets converted to UTC",
+        ),
+        (
+            ["2024-01-01 00:00:00.250", "2024-01-01 00:00:00.500"],
+            [0, 0.25],
+            "2024-01-01 00:00:00.25",
+            "",
+        ),
+        (
+            ["23:59:50", "23:59:59.5", "00:00:10"],
+            [0, 9.5, 20],
+            None,
+            "time of day without a date (midnight passes counted)",
+        ),
+        ([1.7e9, 1.7e9 + 1], [0, 1], "2023-11-14 22:13:20", "time read as epoch seconds"),
+        ([0.0, 0.5, 1.0], [0, 0.5, 1.0], None, ""),
+    ],
+)
+def test_parse_times(values, seconds, start, note):
+    raw = pd.Series(values, dtype="str" if isinstance(values[0], str) else float)
+    t, first, notes = parse_times(raw)
+    np.testing.assert_allclose(t[: len(seconds)], seconds)
+    assert (pd.isna(first) and start is None) or first == pd.Timestamp(start)
+    assert "; ".join(notes).startswith(note) and (note or not notes)
+
+
+def test_time_errors():
+    with pytest.raises(TimeError, match="values are not times"):
+        parse_times(pd.Series(["monday", "tuesday"], dtype="str"))
+    with pytest.raises(TimeError, match="span"):  # a hole 100x the records: refuse, say why
+        regularise(np.array([0.0, 1, 2, 3, 500]), np.zeros(5))
+
+
+def test_per_file_reader_does_not_pad(tmp_path):
+    k = np.arange(20_000)
+    pd.DataFrame({"t": k, "PV": np.sin(k / 50), "OP": np.cos(k / 50)}).to_csv(
+        tmp_path / "long.csv", index=False
+    )
+    write(tmp_path / "short.csv", "t,PV,OP\n0,1,2\n1,2,3\n2,3,4\n")
+    shapes = [read_loop_file(p).X.shape for p in sorted(tmp_path.iterdir())]
+    assert shapes == [(1, 20_000, 3), (1, 3, 3)]

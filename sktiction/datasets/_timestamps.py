@@ -31,8 +31,9 @@ _TEXT_FORMATS = (
     "%d.%m.%Y %H:%M:%S.%f", "%d.%m.%Y %H:%M:%S", "%d.%m.%Y %H:%M",
     "%d/%m/%Y %H:%M:%S.%f", "%d/%m/%Y %H:%M:%S", "%d/%m/%Y %H:%M",
     "%m/%d/%Y %H:%M:%S.%f", "%m/%d/%Y %H:%M:%S", "%m/%d/%Y %H:%M", "%m/%d/%Y %I:%M:%S %p",
-    "%Y/%m/%d %H:%M:%S.%f", "%Y/%m/%d %H:%M:%S", "%Y%m%d %H:%M:%S", "%H:%M:%S.%f", "%H:%M:%S",
+    "%Y/%m/%d %H:%M:%S.%f", "%Y/%m/%d %H:%M:%S", "%Y%m%d %H:%M:%S",
 )  # fmt: skip
+_TIME_OF_DAY = r"\d{1,2}:\d{2}(:\d{2}([.,]\d+)?)?"
 _SAMPLE = 200  # values used to choose a text format before parsing the whole column
 
 
@@ -98,16 +99,33 @@ def _fits(sample, fmt):
     return True
 
 
+def _parse_all(raw, fmt, clean):
+    """Parse a whole column in chunks: the parser makes Python strings, a copy kept small."""
+    chunk = 1 << 17
+    return pd.concat(
+        [_try_format(clean(raw.iloc[i : i + chunk]), fmt, "coerce")
+         for i in range(0, len(raw), chunk)]
+    )  # fmt: skip
+
+
 def _text_times(raw, time_format):
     """Parse text (or datetime objects) to datetimes; return (stamps, notes)."""
     strings = isinstance(raw.dtype, pd.StringDtype) or raw.map(_is_text).all()
 
+    day = ""
+
     def clean(part):
-        return part.astype("str").str.strip().where(part.notna(), None) if strings else part
+        if not strings:
+            return part
+        return (day + part.astype("str").str.strip()).where(part.notna(), None)
 
     sample = clean(raw.dropna().iloc[:_SAMPLE])
     if len(sample) == 0:
         raise TimeError("time column is empty")
+    time_only = strings and sample.str.fullmatch(_TIME_OF_DAY).all()
+    if time_only:
+        day = "1900-01-01 "  # ISO 8601 parsers would date bare times today
+        sample = clean(raw.dropna().iloc[:_SAMPLE])
     candidates = [f for f in (time_format, "ISO8601", "ISO8601-utc") if f]
     fmt = next((f for f in [*candidates, *_TEXT_FORMATS, "mixed"] if _fits(sample, f)), None)
     if fmt is None:
@@ -116,19 +134,29 @@ def _text_times(raw, time_format):
             f"channels={{'time': ...}} or remove it and pass ts="
         )
     notes = []
-    if "%d/%m" in fmt and _fits(sample, fmt.replace("%d/%m", "%m/%d")):
-        notes.append("dates could be day/month or month/day: read day first")
-    # In chunks: the parser turns text into Python strings, a copy we keep small.
-    chunk = 1 << 17
-    stamps = pd.concat(
-        [_try_format(clean(raw.iloc[i : i + chunk]), fmt, "coerce")
-         for i in range(0, len(raw), chunk)]
-    )  # fmt: skip
+    stamps = _parse_all(raw, fmt, clean)
+    if "%d/%m" in fmt:
+        # The sample may hold only days <= 12: the whole column settles the order.
+        other = fmt.replace("%d/%m", "%m/%d")
+        if stamps.isna().sum() > raw.isna().sum():
+            swapped = _parse_all(raw, other, clean)
+            if swapped.isna().sum() < stamps.isna().sum():
+                stamps, fmt = swapped, other
+        elif _fits(sample, other):
+            notes.append("dates could be day/month or month/day: read day first")
     if getattr(stamps.dt, "tz", None) is not None:
         stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
         notes.append("time zone offsets converted to UTC")
-    if fmt.startswith("%H"):
-        notes.append("time of day without a date")
+    if time_only:
+        # Time of day only: a step back of more than 12 h is midnight passing.
+        ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)
+        ok = ~stamps.isna().to_numpy()
+        one_day = 86_400 * 10**9
+        back = np.zeros(len(ns), dtype=np.int64)
+        back[np.flatnonzero(ok)[1:]] = np.diff(ns[ok]) < -one_day // 2
+        stamps = pd.Series(pd.to_datetime(ns + one_day * np.cumsum(back)), index=stamps.index)
+        stamps[~ok] = pd.NaT
+        notes.append("time of day without a date (midnight passes counted)")
     return stamps, notes
 
 
@@ -192,9 +220,13 @@ default="auto"
         bad = raw[raw.notna().to_numpy() & ~ok]
         raise TimeError(f"most values are not times (first bad value: {bad.iloc[0]!r})")
     start = stamps[ok].min()
+    if any(n.startswith("time of day") for n in notes):
+        start_out = pd.NaT  # no date: the 1900-01-01 of the parser is not a start
+    else:
+        start_out = start
     t = np.full(len(stamps), np.nan)
     t[ok] = (stamps[ok] - start).dt.total_seconds().to_numpy()
-    return t, start, notes
+    return t, start_out, notes
 
 
 def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.0):
