@@ -14,9 +14,10 @@ column (the skeptic's list), the simulator effect that produces it and how
 
 The thresholds of ``present`` come from what the statistics mean, not from any data set:
 a hold or a compression must freeze at least 2 % of the samples, quantisation must make most
-changes revisit a level, an averaging dip must reach -0.3 of the -0.5 a trailing mean gives,
-a recorded drift must exceed half the control error's range (integral action keeps a
-controlled error level).
+changes revisit a level, an averaging dip must reach -0.3 of the -0.5 a trailing mean gives
+and stand between two positive lobes as a trailing mean's does,
+a recorded drift must exceed 1.5 times the range of the detrended error (integral action
+removes slow loads from the error).
 """
 
 from __future__ import annotations
@@ -30,12 +31,12 @@ from ..simulation import historian
 
 __all__ = ["RealismEffect", "EFFECTS", "effect_names"]
 
-# The historian applies effects in this order: sensor, then averaging, grid, compression.
 _HOLD_MIN = 0.02
 _FREEZE_MIN = 0.02
 _REUSE_MIN = 0.5
 _AVERAGING_DIP = -0.3
-_DRIFT_MIN = 0.5
+_AVERAGING_CONTRAST = -0.6
+_DRIFT_MIN = 1.5
 _OSCILLATING_ACF = 0.3
 _CASCADE_SHARE = 0.2
 
@@ -177,28 +178,14 @@ _ENTRIES = [
         make=lambda size: historian.SensorDrift(float(max(size, 1e-3))),
     ),
     RealismEffect(
-        "spikes",
-        "spike_rate",
-        "recording",
-        "Spikes(rate, amplitude): isolated wild samples of amplitude x span",
-        "steps (holds, setpoint moves, slips) survive a 3-point median, so do not count; "
-        "heavy-tailed noise beyond 8 sd does.",
-        present=lambda s: _col(s, "spike_rate") > 0,
-        params=lambda s: _frame(
-            rate=_col(s, "spike_rate"), amplitude=np.nan_to_num(_col(s, "spike_size"), nan=0.5)
-        ),
-        make=lambda rate, amplitude: historian.Spikes(
-            float(min(max(rate, 1e-5), 0.5)), float(max(amplitude, 0.05))
-        ),
-    ),
-    RealismEffect(
         "interval_averaging",
         "diff_acf_min",
         "recording",
         "IntervalAveraging(window): trailing mean over window samples (PV and OP)",
-        "white and AR(1) noise leave the second-difference ACF near 0 beyond lag 2; a PV "
+        "white and AR(1) noise leave the third-difference ACF above -0.1 beyond lag 1; a PV "
         "filter (first order) does not dip; a moving average does, at its window.",
-        present=lambda s: _col(s, "diff_acf_min") < _AVERAGING_DIP,
+        present=lambda s: (_col(s, "diff_acf_min") < _AVERAGING_DIP)
+        & (_col(s, "averaging_contrast") < _AVERAGING_CONTRAST),
         params=lambda s: _frame(window=_col(s, "averaging_lag")),
         make=lambda window: historian.IntervalAveraging(int(max(2, round(window)))),
     ),
@@ -242,6 +229,21 @@ _ENTRIES = [
         ),
         make=lambda fraction, mean_run: historian.HoldLastValue(
             float(min(max(fraction, 1e-3), 0.95)), float(max(mean_run, 1.0))
+        ),
+    ),
+    RealismEffect(
+        "spikes",
+        "spike_rate",
+        "recording",
+        "Spikes(rate, amplitude): isolated wild samples of amplitude x span",
+        "steps (holds, setpoint moves, slips) survive a 3-point median, so do not count; "
+        "heavy-tailed noise beyond 8 sd does.",
+        present=lambda s: _col(s, "spike_rate") > 0,
+        params=lambda s: _frame(
+            rate=_col(s, "spike_rate"), amplitude=np.nan_to_num(_col(s, "spike_size"), nan=0.5)
+        ),
+        make=lambda rate, amplitude: historian.Spikes(
+            float(min(max(rate, 1e-5), 0.5)), float(max(amplitude, 0.05))
         ),
     ),
     # ---- properties of the simulated world -----------------------------------------------
@@ -326,7 +328,9 @@ _ENTRIES = [
 ]
 
 EFFECTS = {e.name: e for e in _ENTRIES}
-"""Catalog of realism effects, keyed by name, in the historian's order for recording ones."""
+"""Catalog of realism effects, keyed by name. Recording effects come in the order they act:
+sensor drift, interval averaging, grid, per-tag compression, held rows, then spikes (glitches
+of the stored values, which averaging would otherwise smooth away)."""
 
 
 def effect_names(kind=None):
@@ -344,7 +348,7 @@ def effect_names(kind=None):
     --------
     >>> from sktiction.realism import effect_names
     >>> effect_names("recording")[-2:]
-    ['deadband_compression', 'hold_last_value']
+    ['hold_last_value', 'spikes']
     """
     if kind not in (None, "recording", "world"):
         raise ValueError(f"kind must be None, 'recording' or 'world'; got {kind!r}.")

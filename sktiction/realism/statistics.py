@@ -19,6 +19,8 @@ __all__ = ["loop_statistics", "STATISTIC_COLUMNS"]
 _MAD_TO_SD = 1.4826 / np.sqrt(6.0)
 # Lags of the difference ACF searched for the dip that interval averaging leaves.
 _AVERAGING_LAGS = (2, 12)
+# Fewest pairs of fresh differences for an ACF value (its sd is about 1 / sqrt(pairs)).
+_MIN_PAIRS = 30
 # A spike departs from its 3-point median by more than this many noise sd ...
 _SPIKE_NOISE_SD = 8.0
 # ... and by more than this share of the channel's 5-95 % range.
@@ -42,6 +44,7 @@ STATISTIC_COLUMNS = (
     "noise_colour",
     "diff_acf_min",
     "averaging_lag",
+    "averaging_contrast",
     "pv_repeat_fraction",
     "op_repeat_fraction",
     "row_repeat_fraction",
@@ -79,17 +82,21 @@ def _span(x):
     return float(hi - lo)
 
 
-def _noise_sd(x):
-    """Robust noise sd from second differences, ignoring samples inside frozen runs.
+def _valid_differences(same):
+    """First differences that join two fresh samples.
 
-    Frozen runs (repeats) would drive the median absolute deviation to zero; the steps that
-    end them are kept out too, so holds and compression do not pass for noise.
+    ``same[k]`` says sample ``k + 1`` repeats sample ``k``. The difference ``x[k+1] - x[k]``
+    is left out when ``x[k+1]`` is a repeat, and when ``x[k]`` is a stale repeat (the jump
+    that ends a frozen run carries the change of the whole run).
     """
-    d1 = np.diff(x)
-    moving = d1 != 0
-    d2 = d1[1:] - d1[:-1]
-    ok = moving[1:] & moving[:-1]
-    d2 = d2[ok]
+    stale_start = np.concatenate([[False], same[:-1]])
+    return ~same & ~stale_start
+
+
+def _noise_sd(x, same):
+    """Robust noise sd from second differences of fresh samples (frozen runs left out)."""
+    ok1 = _valid_differences(same)
+    d2 = np.diff(x, 2)[ok1[1:] & ok1[:-1]]
     if len(d2) < 5:
         return 0.0
     return float(_MAD_TO_SD * np.median(np.abs(d2 - np.median(d2))))
@@ -160,14 +167,23 @@ def _band(x, same, span):
     return float(np.percentile(d[ends], 10) / span)
 
 
-def _spikes(x, noise, span):
-    """Deviations (share of span) of the samples that leave their 3-point median."""
+def _despike(x, span):
+    """Replace spikes by their 3-point median; return (clean signal, spike sizes / span).
+
+    A spike departs from its 3-point median by more than 8 noise sd and 20 % of the span.
+    Steps (holds, setpoint moves, slips) survive a 3-point median, so they do not count.
+    """
     if len(x) < 3 or span <= 0:
-        return np.empty(0)
+        return x, np.empty(0)
     med = np.median(np.stack([x[:-2], x[1:-1], x[2:]]), axis=0)
     dev = np.abs(x[1:-1] - med)
-    threshold = max(_SPIKE_NOISE_SD * noise, _SPIKE_SPAN * span)
-    return dev[dev > threshold] / span
+    noise = _noise_sd(x, np.diff(x) == 0)
+    hit = dev > max(_SPIKE_NOISE_SD * noise, _SPIKE_SPAN * span)
+    if not hit.any():
+        return x, np.empty(0)
+    clean = x.copy()
+    clean[1:-1][hit] = med[hit]
+    return clean, dev[hit] / span
 
 
 def _runs(same):
@@ -226,28 +242,52 @@ def _robust_var(x):
     return (1.4826 * np.median(np.abs(x - np.median(x)))) ** 2
 
 
-def _noise_shape(x, same):
-    """Noise colour and the averaging dip, from differences where the noise rules.
+def _masked_acf(d, ok, max_lag):
+    """ACF of ``d`` over the pairs of entries where ``ok`` holds at both ends.
 
-    AR(1) noise with coefficient phi has ``var(d2) / var(d1) = 3 - phi`` (white: 3). The ACF of
-    the second difference is -2/3, 1/6 at lags 1, 2 and 0 beyond for white noise, near 0 beyond
-    lag 1 for AR(1) noise, and dips to about -0.5 at lag ``m`` after a trailing mean of ``m``
-    samples (interval averaging). Second differences touching a frozen sample are left out.
+    Each lag is normalised by its own number of valid pairs, so that frozen stretches left
+    out do not shrink the ACF towards 0; lags with fewer than ``_MIN_PAIRS`` pairs are NaN.
+    """
+    z = np.where(ok, d - np.median(d[ok]), 0.0)
+    r = _acf(z, max_lag, demean=False)
+    pairs = _acf(ok.astype(float), max_lag, demean=False)
+    n_pairs = pairs * ok.sum()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(n_pairs >= _MIN_PAIRS, r / pairs, np.nan)
+
+
+def _noise_shape(x, same):
+    """Noise colour and the averaging dip, from high differences where the noise rules.
+
+    Differencing removes the loop's slow signal (a sine of P samples per cycle shrinks by
+    ``2 pi / P`` per difference) and keeps the noise. The lag-1 ACF of the second difference
+    is -2/3 for white noise and rises towards -1/2 as AR(1) noise gets coloured (-0.56 for
+    phi = 0.5, -0.51 for phi = 0.9). The ACF of the third difference is near 0 beyond lag 3
+    for white and AR(1) noise, and dips to -0.5 at lag ``m`` after a trailing mean of ``m``
+    samples (interval averaging). Differences touching a frozen sample are left out.
     """
     lo, hi = _AVERAGING_LAGS
-    d1 = np.diff(x)
-    d2 = d1[1:] - d1[:-1]
-    moving = ~(same[1:] | same[:-1])
-    if moving.sum() < 4 * hi:
-        return np.nan, np.nan, np.nan
-    v1, v2 = _robust_var(d1[~same]), _robust_var(d2[moving])
-    colour = float(np.clip(3.0 - v2 / v1, -1.0, 1.0)) if v1 > 0 else np.nan
-    z = np.where(moving, d2 - np.median(d2[moving]), 0.0)
-    r = _acf(z, hi, demean=False)
-    if not np.isfinite(r[0]):
-        return colour, np.nan, np.nan
-    k = lo + int(np.argmin(r[lo : hi + 1]))
-    return colour, float(r[k]), float(k)
+    d2 = np.diff(x, 2)
+    d3 = np.diff(d2)
+    ok1 = _valid_differences(same)
+    ok2 = ok1[1:] & ok1[:-1]
+    ok3 = ok2[1:] & ok2[:-1]
+    if ok3.sum() < 4 * hi:
+        return np.nan, np.nan, np.nan, np.nan
+    r2 = _masked_acf(d2, ok2, 1)
+    colour = float(np.clip((r2[1] + 2.0 / 3.0) * 6.0, -1.0, 1.0)) if np.isfinite(r2[0]) else np.nan
+    r3 = _masked_acf(d3, ok3, hi + 1)
+    if not np.isfinite(r3[0]):
+        return colour, np.nan, np.nan, np.nan
+    if not np.isfinite(r3[lo : hi + 1]).any():
+        return colour, np.nan, np.nan, np.nan
+    k = lo + int(np.nanargmin(r3[lo : hi + 1]))
+    # a trailing mean's dip stands between two positive lobes (+0.3 to +0.4) at k - 1 and
+    # k + 1 (for k = 2 the lag-1 value belongs to the differencing, only k + 1 counts);
+    # chance minima of a noisy ACF have no such lobes
+    side = [r3[k + 1]] if k == lo else [r3[k - 1], r3[k + 1]]
+    contrast = float(r3[k] - np.mean(side)) if np.isfinite(side).all() else np.nan
+    return colour, float(r3[k]), float(k), contrast
 
 
 def _oscillation(err):
@@ -297,34 +337,47 @@ def _one_loop(x, ts):
     sp = _fill(sp) if has_sp else sp
     if n < 8 or np.isnan(pv).any():
         return row
+    # spikes first, so that one glitch does not break a frozen run or pass for a grid level
+    pv_span = _span(pv)
+    pv, spikes = _despike(pv, pv_span)
+    spikes = [spikes]
     err = pv - sp if has_sp else pv
-    pv_span, err_span = _span(pv), _span(err)
-    pv_noise = _noise_sd(pv)
+    err_span = _span(err)
+    same_pv, pv_rep, pv_reuse = _repeats_and_reuse(pv)
+    pv_noise = _noise_sd(pv, same_pv)
     row.update(pv_span=pv_span, error_span=err_span, pv_noise=pv_noise)
     row["noise_level"] = pv_noise / err_span if err_span > 0 else np.nan
 
-    same_pv, pv_rep, pv_reuse = _repeats_and_reuse(pv)
-    colour, dip, lag = _noise_shape(pv, same_pv)
+    colour, dip, lag, contrast = _noise_shape(pv, same_pv)
     row.update(noise_colour=colour, diff_acf_min=dip, averaging_lag=lag)
+    row["averaging_contrast"] = contrast
     row.update(pv_repeat_fraction=pv_rep, pv_level_reuse=pv_reuse)
     row["pv_band"] = _band(pv, same_pv, pv_span)
     pv_q = _min_change(pv)
     row["pv_step"] = pv_q / pv_span if pv_span > 0 else np.nan
-    spikes = [_spikes(pv, pv_noise, pv_span)]
     det, slope = _detrend(err)
-    row["pv_drift"] = abs(slope) * n / err_span if err_span > 0 else np.nan
+    det_span = _span(det)
+    row["pv_drift"] = abs(slope) * n / det_span if det_span > 0 else np.nan
 
     peak, period, reg, decor = _oscillation(det)
     row.update(acf_peak=peak, period=period, regularity=reg, decorrelation_lag=decor)
 
     if has_op and not np.isnan(op).any():
         op_span = _span(op)
-        op_noise = _noise_sd(op)
+        op, op_spikes = _despike(op, op_span)
+        spikes.append(op_spikes)
         same_op, op_rep, op_reuse = _repeats_and_reuse(op)
+        op_noise = _noise_sd(op, same_op)
         row.update(op_span=op_span, op_noise=op_noise, op_repeat_fraction=op_rep)
         row["op_level_reuse"] = op_reuse
         row["op_noise_level"] = op_noise / op_span if op_span > 0 else np.nan
         row["op_band"] = _band(op, same_op, op_span)
+        # a historian averages every tag over the same interval: OP must dip at the same lag
+        _, _, op_lag, op_contrast = _noise_shape(op, same_op)
+        if op_lag == row["averaging_lag"]:
+            row["averaging_contrast"] = max(row["averaging_contrast"], op_contrast)
+        else:
+            row["averaging_contrast"] = 0.0
         both = float((same_pv & same_op).mean())
         row["row_repeat_fraction"] = both
         hold, hold_len, pv_alone = _freezes(pv, same_pv, _runs(same_op), pv_q)
@@ -334,9 +387,9 @@ def _one_loop(x, ts):
         # Historian holds freeze whole rows: joint repeats beyond what independent
         # per-tag freezes (compression, quantisation) would give by chance.
         row["joint_repeat_excess"] = both - pv_rep * op_rep
-        spikes.append(_spikes(op, op_noise, op_span))
         op_det, op_slope = _detrend(op)
-        row["op_drift"] = abs(op_slope) * n / op_span if op_span > 0 else np.nan
+        op_det_span = _span(op_det)
+        row["op_drift"] = abs(op_slope) * n / op_det_span if op_det_span > 0 else np.nan
         max_lag = int(min(n // 4, 3 * period if np.isfinite(period) else n // 4))
         max_lag = max(max_lag, 1)
         xc = _xcorr(det, op_det, max_lag)
@@ -391,12 +444,16 @@ def loop_statistics(X, ts=None):
         - ``pv_span``, ``op_span``, ``error_span``; ``pv_noise``, ``op_noise``: robust noise
           sd from second differences, frozen samples left out.
         - ``noise_level``: ``pv_noise / error_span``; ``op_noise_level``: ``op_noise / op_span``.
-        - ``noise_colour``: ``1 + 2 r1`` with ``r1`` the lag-1 autocorrelation of the PV
-          difference: the AR(1) coefficient of the noise when noise dominates the difference
-          (0 white, towards 1 coloured). Interval averaging also raises it.
-        - ``diff_acf_min``, ``averaging_lag``: lowest autocorrelation of the PV difference at
-          lags 2-12 and its lag. A trailing mean of ``m`` samples leaves a dip of about -0.5 at
-          lag ``m``; white and AR(1) noise stay near 0 there (interval averaging).
+        - ``noise_colour``: ``6 (r1 + 2/3)`` with ``r1`` the lag-1 autocorrelation of the PV
+          second difference: 0 for white noise, 0.6 for AR(1) noise with phi = 0.5, towards 1
+          for strongly coloured noise (clipped to -1..1). Interval averaging also moves it.
+        - ``diff_acf_min``, ``averaging_lag``: lowest autocorrelation of the PV third
+          difference at lags 2-12 and its lag. A trailing mean of ``m`` samples leaves a dip of
+          about -0.5 at lag ``m``; white and AR(1) noise stay above -0.1 (interval averaging).
+          ``averaging_contrast``: the dip minus the mean ACF at the lags either side (about
+          -0.8 for a trailing mean, whose dip sits between two positive lobes; near 0 to -0.25
+          for a chance minimum); with OP, the weaker of PV's and OP's, and 0 unless both dip
+          at the same lag (a historian averages every tag over the same interval).
         - ``pv_repeat_fraction``, ``op_repeat_fraction``: share of samples equal to the one
           before; ``row_repeat_fraction``: PV and OP both repeated.
         - ``hold_run_length``: mean length of the runs where PV and OP both repeat.
@@ -414,9 +471,10 @@ def loop_statistics(X, ts=None):
           the span (the compression band; 0 with fewer than 3 runs).
         - ``spike_rate``: samples of PV or OP departing from their 3-point median by more than
           8 noise sd and 20 % of the span, per sample. Steps (holds, setpoint moves) do not count.
+          Spikes are replaced by that median before every other statistic is computed.
           ``spike_size``: their median departure, share of the span.
-        - ``pv_drift``: linear trend of the error over the record, share of its span; ``op_drift``:
-          OP trend over the record, share of the OP span (loads).
+        - ``pv_drift``: linear trend of the error over the record, in units of the detrended
+          error's span; ``op_drift``: the same for OP (loads the loop rejects).
         - ``sp_change_fraction``: share of samples whose SP changed (cascade setpoints: most);
           ``sp_steps``: number of SP changes when they are at most 20 % of samples (NaN
           otherwise); ``sp_step_size``: median SP change, share of PV span; ``sp_offset``:
