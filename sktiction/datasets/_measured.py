@@ -605,6 +605,8 @@ def read_loops(
                 skipped.append({"path": row.path, "reason": row.reason})
             else:
                 items.append((Path(row.path), row.reason))
+    if not items:
+        raise ValueError(f"paths holds no files to read: {paths!r}.")
     for path, reason in items:
         if on_error == "raise" and reason is not None:
             raise ValueError(f"{path.name}: {reason}.")

@@ -121,14 +121,14 @@ def _fields(line, sep):
 
 
 def _choose_separator(lines):
-    """Separator splitting the last rows of the head into equal, >= 2 field counts."""
+    """Separator splitting most of the last rows of the head into equal, >= 2 field counts."""
     rows = [ln for ln in lines[-50:] if ln.strip() and not ln.lstrip().startswith(_COMMENT)]
     for sep in _SEPARATORS:
         counts = [len(_fields(ln, sep)) for ln in rows]
         if not counts:
             break
         mode = max(set(counts), key=counts.count)
-        if mode >= 2 and counts.count(mode) >= 0.9 * len(counts):
+        if mode >= 2 and counts.count(mode) >= 0.6 * len(counts):
             return sep, mode
     return ",", 1
 

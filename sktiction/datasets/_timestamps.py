@@ -127,12 +127,18 @@ def _text_times(raw, time_format):
         day = "1900-01-01 "  # ISO 8601 parsers would date bare times today
         sample = clean(raw.dropna().iloc[:_SAMPLE])
     candidates = [f for f in (time_format, "ISO8601", "ISO8601-utc") if f]
-    fmt = next((f for f in [*candidates, *_TEXT_FORMATS, "mixed"] if _fits(sample, f)), None)
+    candidates += [*_TEXT_FORMATS, "mixed"]
+    fmt = next((f for f in candidates if _fits(sample, f)), None)
     if fmt is None:
-        raise TimeError(
-            f"values are not times (first: {sample.iloc[0]!r}); name the time column with "
-            f"channels={{'time': ...}} or remove it and pass ts="
-        )
+        # A few bad values in the sample: take the format that reads most of it.
+        read = [_try_format(sample, f, "coerce").notna().mean() for f in candidates[:-1]]
+        best = int(np.argmax(read))
+        if read[best] < 0.5:
+            raise TimeError(
+                f"values are not times (first: {sample.iloc[0]!r}); name the time column "
+                f"with channels={{'time': ...}} or remove it and pass ts="
+            )
+        fmt = candidates[best]
     notes = []
     stamps = _parse_all(raw, fmt, clean)
     if "%d/%m" in fmt:
@@ -210,8 +216,9 @@ default="auto"
         if raw.dtype.kind not in "fiu":
             # Look at a sample first: converting a million date strings to numbers is slow.
             head = pd.to_numeric(raw[present][:_SAMPLE], errors="coerce")
-            numeric = pd.to_numeric(raw, errors="coerce") if head.notna().all() else None
-        if numeric is not None and present.any() and numeric.notna().to_numpy()[present].all():
+            numeric = pd.to_numeric(raw, errors="coerce") if head.notna().mean() > 0.5 else None
+        # Mostly numbers: numeric times, the odd text value a row without a time.
+        if numeric is not None and numeric.notna().sum() > 0.5 * present.sum():
             t, start, note = _numeric_times(numeric.to_numpy(dtype=float), unit)
             return t, start, [note] if note else []
         stamps, notes = _text_times(raw, time_format)
