@@ -1,6 +1,7 @@
 """Cycle analysis: oscillation detection, mean removal, zero crossings, cycles, localisation."""
 
 from ._analysis import REGULARITY_THRESHOLD, CycleAnalysis, analyze_cycles
+from ._oscillation import OscillationComponent, detect_oscillations
 from ._signal import (
     autocorrelation,
     dominant_period,
@@ -14,8 +15,10 @@ from ._signal import (
 __all__ = [
     "REGULARITY_THRESHOLD",
     "CycleAnalysis",
+    "OscillationComponent",
     "analyze_cycles",
     "autocorrelation",
+    "detect_oscillations",
     "dominant_period",
     "horch_filter",
     "moving_average",

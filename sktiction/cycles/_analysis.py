@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
+from ._oscillation import detect_oscillations
 from ._signal import dominant_period, moving_average, noise_std, remove_mean, schmitt_crossings
 
 #: Thornhill et al. (2003): an oscillation is regular when the mean interval between
@@ -41,7 +42,16 @@ class CycleAnalysis:
     acf_strength : float
         Height of the first ACF peak (0-1).
     oscillating : bool
-        Whether the signal oscillates (regular, and at least ``min_cycles`` cycles).
+        Whether the signal oscillates: some component of
+        :func:`~sktiction.cycles.detect_oscillations` has an index above 0.5.
+    oscillation_index : float
+        Largest index of the components (0-1; 0.5 is the decision threshold).
+    periods : ndarray of float
+        Period (samples) of each oscillating component, strongest first.
+    regularities : ndarray of float
+        Thornhill's regularity r of each oscillating component's ACF zero crossings.
+    components : list of OscillationComponent
+        All components examined, oscillating or not, strongest index first.
     """
 
     centred: np.ndarray
@@ -55,6 +65,10 @@ class CycleAnalysis:
     regularity: float = np.nan
     acf_strength: float = 0.0
     oscillating: bool = False
+    oscillation_index: float = 0.0
+    periods: np.ndarray = field(default_factory=lambda: np.empty(0))
+    regularities: np.ndarray = field(default_factory=lambda: np.empty(0))
+    components: list = field(default_factory=list)
 
     @property
     def half_cycles(self):
@@ -134,10 +148,20 @@ def _segments(centred, crossings, peaks, kept):
     return out
 
 
-def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.2):
+def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
+                   threshold=0.5):
     """Detect and time-localise the oscillation of one signal, cycle by cycle.
 
-    Steps: (1) dominant period from the autocorrelation of the detrended signal;
+    Detection: :func:`~sktiction.cycles.detect_oscillations` splits the signal into
+    components around its spectral peaks and scores each from its band-limited
+    autocorrelation (Thornhill, Huang & Zhang, 2003); the signal oscillates when a
+    component's index exceeds ``threshold``. This finds irregular and noise-driven
+    cycles, two oscillations at once, cycles under drift, short periods and records
+    of a few slow cycles, and it reads through historian repeats.
+
+    Localisation: (1) dominant period from the autocorrelation of the detrended
+    signal, or the period of the strongest detected component when it disagrees
+    with all of them (drift or a second oscillation hides the first ACF lobe);
     (2) mean removal by a moving average over that period (robust to drift and
     setpoint moves, see :func:`~sktiction.cycles.remove_mean`); (3) zero crossings
     by a Schmitt trigger at ``hysteresis`` times the noise standard deviation on a
@@ -145,11 +169,8 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     crossings, their peaks, and full cycles (three consecutive crossings);
     (5) stretches of at least ``min_cycles`` consecutive full cycles whose periods
     lie within ``tolerance`` of their local median (the cycle and two neighbours
-    either side) are the oscillating segments.
-
-    The signal oscillates when it has such a segment, Thornhill's regularity
-    factor of the cycles in segments exceeds 1 (:data:`REGULARITY_THRESHOLD`) and
-    the first ACF peak exceeds ``min_acf``.
+    either side) are the oscillating segments. ``period`` and ``regularity`` (Thornhill's
+    r, :data:`REGULARITY_THRESHOLD`) describe the cycles in segments.
 
     Parameters
     ----------
@@ -161,8 +182,11 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
         Crossing thresholds, in noise standard deviations.
     tolerance : float, default=0.5
         Relative period deviation allowed within an oscillating stretch.
-    min_acf : float, default=0.2
-        Smallest first ACF peak of an oscillating signal.
+    min_acf : float, default=0.0
+        Smallest first ACF peak (``acf_strength``) of an oscillating signal, on top of
+        the detection (0: no such condition).
+    threshold : float, default=0.5
+        Oscillation index above which a component oscillates.
 
     Returns
     -------
@@ -176,9 +200,25 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     >>> a = analyze_cycles(np.sign(np.sin(2 * np.pi * t / 100)) + 0.01 * t)
     >>> a.oscillating, len(a.cycles), round(a.period)
     (True, 9, 100)
+    >>> a.oscillation_index > 0.99, np.round(a.periods)
+    (True, array([100.]))
     """
     x = np.asarray(x, dtype=float)
     p0, strength = dominant_period(x)
+    components = detect_oscillations(x, threshold=threshold)
+    found = [c for c in components if c.index > threshold]
+    if found:
+        main = max(found, key=lambda c: c.share)
+        if not (np.isfinite(p0) and any(abs(np.log(p0 / c.period)) < 0.25 for c in found)):
+            p0 = main.period
+    detection = dict(
+        acf_strength=strength,
+        oscillating=bool(found) and strength >= min_acf,
+        oscillation_index=max((c.index for c in components), default=0.0),
+        periods=np.array([c.period for c in found]),
+        regularities=np.array([c.regularity for c in found]),
+        components=components,
+    )
     centred = remove_mean(x, p0)
     # smoothing for crossings and peaks, as wide as the noise needs and at most a
     # tenth of a period (which keeps shapes); none on clean signals, so peaks stay put
@@ -190,7 +230,7 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     h = max(hysteresis * sigma / np.sqrt(width), 1e-12 * max(np.ptp(centred), 1e-300))
     crossings, signs = schmitt_crossings(smooth, h)
     peaks = _peaks(centred, smooth, crossings, signs, width)
-    analysis = CycleAnalysis(centred, smooth, crossings, signs, peaks, acf_strength=strength)
+    analysis = CycleAnalysis(centred, smooth, crossings, signs, peaks, **detection)
     if crossings.size < 3:
         return analysis
     periods = crossings[2:] - crossings[:-2]  # full cycle starting at crossing k
@@ -213,5 +253,4 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     analysis.segments = segments
     analysis.period = float(np.median(p))
     analysis.regularity = float(regularity)
-    analysis.oscillating = bool(regularity > REGULARITY_THRESHOLD and strength > min_acf)
     return analysis
