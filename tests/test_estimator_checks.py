@@ -238,6 +238,25 @@ def test_area_ratio_of_known_half_cycles(peak_at, filt):
     assert Z[names.index("n_half_cycles")] >= 20
 
 
+@pytest.mark.parametrize("filt", [None, "horch"])
+def test_area_ratio_of_each_half_cycle(filt):
+    X = _asymmetric_loop(0.75)
+    analysis, ratios, halves = AreaRatio(filter=filt).half_cycles(X[0, :, 2] - X[0, :, 0])
+    assert analysis.oscillating and len(ratios) == len(halves) >= 20
+    assert np.allclose(ratios[1:-1], 3.0, rtol=0.01)
+
+
+@pytest.mark.xfail(
+    reason="a record that starts and ends on a zero crossing: its first and last half-cycles "
+    "are whole but get R = 2.1 and 4.5 (every half-cycle has R = 3)",
+    strict=False,
+)
+def test_area_ratio_of_the_first_and_last_half_cycles():
+    X = _asymmetric_loop(0.75)
+    _, ratios, _ = AreaRatio().half_cycles(X[0, :, 2] - X[0, :, 0])
+    assert np.allclose(ratios, 3.0, rtol=0.01), np.round(ratios, 2)
+
+
 def test_area_ratio_filter_and_min_cycles_are_used():
     X = _asymmetric_loop(0.75, noise=0.3)
     assert not _same(AreaRatio(filter="horch").fit_transform(X), AreaRatio().fit_transform(X))

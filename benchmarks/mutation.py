@@ -1,0 +1,192 @@
+"""Mutation testing with mutmut: how many small deliberate bugs do the tests catch?
+
+mutmut (3.x) changes the code one small edit at a time (an operator, a constant, an
+argument dropped) and runs the tests that cover the changed function; a *surviving*
+mutant is a change no test notices. The run happens in a scratch copy of the working
+tree (never in the tree itself), and prints, per source file, the score (killed over
+all mutants, a mutant that no selected test reaches counted as surviving) and every
+survivor as a diff, to be judged: a test to add, or an equivalent mutant (one that
+cannot change any result, e.g. a constant offset that cancels in a difference).
+
+Not part of CI: a full run takes hours on 2 cores. Choose modules and tests:
+
+    python benchmarks/mutation.py --module sktiction/features/area_ratio.py \
+        --tests tests/test_area_ratio.py tests/test_estimator_checks.py
+    python benchmarks/mutation.py --module features      # a group, with its tests
+    python benchmarks/mutation.py --list                 # the groups
+
+Requires ``pip install mutmut`` (3.x). Runs under ``nice`` with one BLAS/numba thread
+per worker; ``--max-children`` workers (default 1: the machine is shared).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+from collections import Counter
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: Module groups the issue asks for, with the tests that exercise them.
+GROUPS = {
+    "cycles": (
+        ["sktiction/cycles/*.py"],
+        ["tests/test_cycles.py", "tests/test_area_ratio.py", "tests/test_templates.py"],
+    ),
+    "features": (
+        ["sktiction/features/*.py"],
+        ["tests/test_area_ratio.py", "tests/test_templates.py", "tests/test_estimator_checks.py"],
+    ),
+    "classifiers": (
+        ["sktiction/classifiers/*.py"],
+        ["tests/test_classifiers.py", "tests/test_shape_library.py", "tests/test_learned.py",
+         "tests/test_estimator_checks.py"],
+    ),  # fmt: skip
+    "datasets": (
+        ["sktiction/datasets/*.py"],
+        ["tests/test_make_loops.py", "tests/test_make_loops_signals.py",
+         "tests/test_read_loops.py", "tests/test_example.py"],
+    ),  # fmt: skip
+    "scan": (
+        ["sktiction/reports/scan.py"],
+        ["tests/test_reports.py", "tests/test_scan.py", "tests/test_properties.py"],
+    ),
+}
+
+# mutmut's exit codes (mutmut/stats.py)
+_STATUS = {1: "killed", 3: "killed", 0: "survived", 5: "no tests", 33: "no tests",
+           34: "skipped", 36: "timeout", 24: "timeout", -24: "timeout", 152: "timeout",
+           255: "timeout", 37: "killed", None: "not checked"}  # fmt: skip
+CAUGHT = ("killed", "timeout")
+IGNORE = {".git", "mutants", "__pycache__", "build", ".hypothesis", ".pytest_cache"}
+
+
+def _resolve(modules, tests):
+    """Source globs and test paths for the modules asked for."""
+    globs, default_tests = [], []
+    for m in modules:
+        if m in GROUPS:
+            g, t = GROUPS[m]
+        else:
+            g, t = [m], []
+            for group_globs, group_tests in GROUPS.values():
+                if any(Path(m).match(p) for p in group_globs):
+                    t = group_tests
+        globs += g
+        default_tests += t
+    tests = tests or default_tests
+    if not tests:
+        sys.exit(f"no tests known for {modules}; pass --tests")
+    return list(dict.fromkeys(globs)), list(dict.fromkeys(tests))
+
+
+def _copy_tree(workdir):
+    """Scratch copy of the working tree (tracked and untracked files, as they are now)."""
+    if workdir.exists():
+        shutil.rmtree(workdir)
+    def ignore(_dir, names):
+        return [n for n in names if n in IGNORE or n.endswith(".egg-info")]
+
+    shutil.copytree(ROOT, workdir, ignore=ignore)
+
+
+def _configure(workdir, globs, tests):
+    """Append mutmut's settings to the copy's pyproject.toml (the copy only)."""
+    existing = [t for t in tests if (workdir / t.split("::")[0]).exists()]
+    missing = sorted(set(tests) - set(existing))
+    if missing:
+        print(f"tests not in this tree, left out: {missing}")
+    conf = {
+        "source_paths": ["sktiction"],
+        "only_mutate": globs,
+        "pytest_add_cli_args_test_selection": existing,
+        "pytest_add_cli_args": ["-p", "no:cacheprovider", "-x", "-q"],
+    }
+    lines = ["", "[tool.mutmut]"] + [f"{k} = {json.dumps(v)}" for k, v in conf.items()]
+    with open(workdir / "pyproject.toml", "a", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def _run(workdir, max_children, log):
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
+               NUMBA_NUM_THREADS="1", PYTHONDONTWRITEBYTECODE="1")  # fmt: skip
+    env.pop("PYTHONPATH", None)
+    cmd = ["nice", "-n", "10", "mutmut", "run", "--max-children", str(max_children)]
+    with open(log, "w", encoding="utf-8") as out:
+        return subprocess.run(cmd, cwd=workdir, env=env, stdout=out, stderr=subprocess.STDOUT)
+
+
+def _results(workdir):
+    """{source file: Counter of statuses}, and the surviving mutant names."""
+    per_file, survivors = {}, []
+    for meta in sorted((workdir / "mutants").rglob("*.py.meta")):
+        data = json.loads(meta.read_text())
+        src = str(meta.relative_to(workdir / "mutants"))[: -len(".meta")]
+        counts = Counter()
+        for name, code in data["exit_code_by_key"].items():
+            status = _STATUS.get(code, "suspicious")
+            counts[status] += 1
+            if status not in CAUGHT:
+                survivors.append((src, name, status))
+        per_file[src] = counts
+    return per_file, survivors
+
+
+def _show(workdir, name):
+    out = subprocess.run(["mutmut", "show", name], cwd=workdir, capture_output=True, text=True)
+    return "\n".join(line for line in out.stdout.splitlines()
+                     if line[:1] in "+-" and line[:3] not in ("+++", "---"))  # fmt: skip
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--module", nargs="+", default=["features"],
+                   help="group names (see --list) or source files/globs to mutate")  # fmt: skip
+    p.add_argument("--tests", nargs="+", default=None,
+                   help="test files or node ids to run (default: the group's tests)")  # fmt: skip
+    p.add_argument("--workdir", default="/tmp/sktiction-mutation", type=Path)
+    p.add_argument("--max-children", default=1, type=int)
+    p.add_argument("--list", action="store_true", help="print the groups and exit")
+    p.add_argument("--report-only", action="store_true",
+                   help="print the results of the last run in --workdir")  # fmt: skip
+    args = p.parse_args(argv)
+    if args.list:
+        for name, (globs, tests) in GROUPS.items():
+            print(f"{name}: {' '.join(globs)}\n    tests: {' '.join(tests)}")
+        return 0
+    if shutil.which("mutmut") is None:
+        sys.exit("mutmut is not installed: pip install mutmut")
+    globs, tests = _resolve(args.module, args.tests)
+    workdir = args.workdir.resolve()
+    if workdir == ROOT or ROOT in workdir.parents:
+        sys.exit("--workdir must be outside the working tree")
+    if not args.report_only:
+        print(f"mutating {globs}\nwith {tests}\nin {workdir}")
+        _copy_tree(workdir)
+        _configure(workdir, globs, tests)
+        done = _run(workdir, args.max_children, workdir / "mutmut.log")
+        if done.returncode != 0:
+            print(f"mutmut exited with {done.returncode}; see {workdir / 'mutmut.log'}")
+    per_file, survivors = _results(workdir)
+    if not per_file:
+        sys.exit(f"no results in {workdir / 'mutants'}")
+    print(f"\n{'file':48s} {'mutants':>7s} {'killed':>6s} {'survived':>8s} {'no tests':>8s}"
+          f" {'score':>6s}")  # fmt: skip
+    for src, c in per_file.items():
+        total = sum(c.values())
+        caught = sum(c[s] for s in CAUGHT)
+        print(f"{src:48s} {total:7d} {caught:6d} {c['survived']:8d} {c['no tests']:8d}"
+              f" {caught / max(total, 1):6.1%}")  # fmt: skip
+    print("\nsurviving mutants (no test failed):")
+    for _src, name, status in survivors:
+        print(f"\n# {name} [{status}]\n{_show(workdir, name)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
