@@ -140,3 +140,68 @@ def test_scan_rejects_bad_chunk_size(small_learned):
     X, _ = make_loops(2, n_samples=1000, random_state=0)
     with pytest.raises(ValueError, match="chunk_size"):
         scan_loops(X, classifier=small_learned, chunk_size=0)
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """A small site on disk: CSV loops of mixed lengths, one with a gap, a broken file,
+    a file that is not a loop file."""
+    folder = tmp_path_factory.mktemp("site")
+    X, _ = make_loops(7, n_samples=2000, stiction_fraction=0.5, random_state=21)
+    lengths = [2000, 1500, 1800, 2000, 1200, 2000, 1600]
+    X[3, 700:703] = np.nan  # a short gap, bridged by the repair
+    for i, n in enumerate(lengths):
+        pd.DataFrame({"t": np.arange(n), "PV": X[i, :n, 0], "OP": X[i, :n, 1],
+                      "SP": X[i, :n, 2]}).to_csv(folder / f"FIC{i:03d}.csv", index=False)
+    (folder / "FIC050.csv").write_text("t,PV,OP\n0,1,abc\n")
+    (folder / "readme.docx").write_bytes(b"PK\x03\x04 not a loop file")
+    return folder
+
+
+def test_scan_files_equals_scan_loops_on_the_same_loops(site, small_learned, no_gate):
+    from sktiction.datasets import read_loop_file
+    from sktiction.reports import scan_files
+
+    report = scan_files(site, classifier=small_learned, chunk_size=3, max_gap=None)
+    assert report["file"].tolist() == sorted(p.name for p in site.iterdir())
+    unreadable = report["file"].isin(["FIC050.csv", "readme.docx"])
+    assert report.loc[unreadable, "status"].eq("unreadable").all()
+    assert report.loc[unreadable, "verdict"].eq("no_verdict").all()
+    assert report.loc[unreadable, "reason"].str.len().gt(0).all()
+    files = sorted(site.glob("FIC0[0-4]?.csv"))[:7]
+    datas = [read_loop_file(f) for f in files]
+    n = max(d.X.shape[1] for d in datas)
+    X = np.full((len(datas), n, 3), np.nan)
+    for i, d in enumerate(datas):
+        X[i, : d.X.shape[1]] = d.X[0]
+    meta = pd.concat([d.meta for d in datas], ignore_index=True)
+    assert meta["loop_type"].eq("flow").all()  # from the tags: the flow row of the library
+    expected = scan_loops(X, meta, classifier=small_learned)
+    got = report.loc[~unreadable, expected.columns].reset_index(drop=True)
+    assert got.loc[3, "status"] == "nan_gap"  # no repair asked for
+    pd.testing.assert_frame_equal(got, expected, check_dtype=False, rtol=1e-12)
+
+
+def test_scan_files_bridges_short_gaps_and_does_not_depend_on_the_chunk(site, small_learned,
+                                                                        no_gate):
+    from sktiction.reports import scan_files
+
+    one = scan_files(site, classifier=small_learned, chunk_size=1)
+    four = scan_files(site, classifier=small_learned, chunk_size=4, n_jobs=2)
+    pd.testing.assert_frame_equal(one, four)
+    gap = one[one["file"] == "FIC003.csv"].iloc[0]
+    assert gap["status"] == "ok" and gap["n_bridged"] == 1
+
+
+def test_scan_files_on_a_dask_cluster_gives_the_local_report(site, small_learned):
+    distributed = pytest.importorskip("distributed")
+    from sktiction.reports import scan_files
+
+    local = scan_files(site, classifier=small_learned, chunk_size=2)
+    # one in-process worker over TCP on loopback: light, and the real transport
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  protocol="tcp://", host="127.0.0.1",
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        remote = scan_files(site, classifier=small_learned, chunk_size=2, client=client)
+    pd.testing.assert_frame_equal(remote, local)

@@ -1,0 +1,239 @@
+"""Scan a site's files as a stream: reader, shared analysis, verdicts, report rows.
+
+Files are grouped into work units; each unit reads its own files one at a time, scans
+their loops in chunks and returns only report rows, so memory is bounded by a unit,
+not by the site. Units run in this process, in joblib workers or on a dask cluster.
+"""
+
+from __future__ import annotations
+
+import uuid
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from joblib import Parallel, delayed
+
+from .._validation import STATUS_OK, check_loops, repair_gaps
+from ..classifiers import pretrained_classifier
+from ..datasets import list_loop_files, read_loop_file
+from .scan import (
+    NO_VERDICT,
+    REPORT_COLUMNS,
+    LearnedAdapter,
+    _applicability_gate,
+    _Rules,
+    _scan_safely,
+    join_meta,
+    loop_types_of,
+    progress_bar,
+    sampling_times,
+)
+
+#: Scan status of a file that could not be read or is not a loop file.
+STATUS_UNREADABLE = "unreadable"
+_GAP_COLUMNS = ("n_bridged", "n_gaps_split", "kept_start", "kept_stop")
+
+
+def _unreadable_rows(meta):
+    """Report rows for loops the reader could not give (one per unreadable file)."""
+    report = pd.DataFrame({c: [np.nan] * len(meta) for c in REPORT_COLUMNS})
+    report["status"] = STATUS_UNREADABLE
+    report["verdict"] = NO_VERDICT
+    report["reason"] = meta["reason"].to_numpy(dtype=object)
+    return report
+
+
+def _pad(arrays):
+    """Loops of several files in one NaN-padded array (one chunk's worth)."""
+    n = max(a.shape[1] for a in arrays)
+    out = np.full((sum(len(a) for a in arrays), n, 3), np.nan)
+    k = 0
+    for a in arrays:
+        out[k : k + len(a), : a.shape[1]] = a
+        k += len(a)
+    return out
+
+
+def _read(path, channels, ts, max_gap):
+    """One file's loops and meta, short gaps bridged (``repair_gaps``) when asked."""
+    data = read_loop_file(path, channels=channels, ts=ts)
+    X, meta = data.X, data.meta.reset_index(drop=True)
+    readable = (meta["status"] == STATUS_OK).to_numpy() & (X.shape[1] > 0)
+    if max_gap is not None and readable.any():
+        idx = np.flatnonzero(readable)
+        repaired, info = repair_gaps(X[idx], max_gap=max_gap)
+        X = X.copy()
+        X[idx] = repaired[:, : X.shape[1]]
+        for col in _GAP_COLUMNS:
+            meta[col] = np.nan
+            meta.loc[idx, col] = info[col].to_numpy()
+    return X, meta, readable
+
+
+def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
+    """Read and scan one work unit of files; return their report rows in file order."""
+    out = []
+    pending, pending_meta = [], []  # readable loops waiting to fill a chunk
+
+    def flush():
+        if not pending:
+            return
+        meta = pd.concat(pending_meta, ignore_index=True)
+        loops = check_loops(_pad(pending))
+        report = _scan_safely(loops, loop_types_of(meta, len(meta)), learned, rules,
+                              sampling_times(meta), gate)
+        out.append(join_meta(meta, report))
+        pending.clear()
+        pending_meta.clear()
+
+    for path, supported, reason in files:
+        if not supported:
+            flush()
+            meta = pd.DataFrame({"file": [Path(path).name], "path": [path],
+                                 "status": ["unsupported"], "reason": [reason]})
+            out.append(join_meta(meta, _unreadable_rows(meta)))
+            continue
+        try:
+            X, meta, readable = _read(path, channels, ts, max_gap)
+        except Exception as exc:  # noqa: BLE001 - one odd file must not stop the scan
+            meta = pd.DataFrame({"file": [Path(path).name], "path": [path], "status": ["error"],
+                                 "reason": [f"{type(exc).__name__}: {exc}"]})
+            X, readable = np.full((1, 0, 3), np.nan), np.zeros(1, dtype=bool)
+        if not readable.all():
+            flush()  # keep file order: rows of unreadable loops go where the file is
+            if readable.any():
+                pending.append(X[readable])
+                pending_meta.append(meta[readable].reset_index(drop=True))
+                flush()
+            bad = meta[~readable].reset_index(drop=True)
+            out.append(join_meta(bad, _unreadable_rows(bad)))
+            continue
+        pending.append(X)
+        pending_meta.append(meta)
+        if sum(len(p) for p in pending) >= chunk_size:
+            flush()
+    flush()
+    return pd.concat(out, ignore_index=True) if out else pd.DataFrame()
+
+
+def _groups(files, chunk_size):
+    rows = list(files[["path", "supported", "reason"]].itertuples(index=False, name=None))
+    return [rows[s : s + chunk_size] for s in range(0, len(rows), chunk_size)]
+
+
+def scan_files(
+    paths,
+    *,
+    channels=None,
+    classifier=None,
+    chunk_size=64,
+    n_jobs=None,
+    client=None,
+    progress=False,
+    ts=None,
+    max_gap="auto",
+):
+    """Scan every loop file under ``paths`` as a stream, memory bounded by the chunk.
+
+    Files are listed (:func:`~sktiction.datasets.list_loop_files`), grouped into work
+    units of ``chunk_size`` files, and each unit reads its own files one at a time
+    (:func:`~sktiction.datasets.read_loop_file`), bridges short gaps
+    (:func:`~sktiction._validation.repair_gaps`), scans its loops like
+    :func:`scan_loops` and returns only report rows. The site is never held in memory:
+    the scan's memory is that of one unit per worker.
+
+    Parameters
+    ----------
+    paths : str, Path or iterable of them
+        Files or folders (walked recursively).
+    channels : dict or None, default=None
+        Column names, e.g. ``{"pv": "FIC101.PV", "op": "FIC101.OP", "sp": "FIC101.SP"}``
+        (see :func:`~sktiction.datasets.read_loop_file`).
+    classifier : fitted classifier or None, default=None
+        Learned classifier; ``None`` uses :func:`~sktiction.pretrained_classifier`.
+    chunk_size : int, default=64
+        Files per work unit, and loops per scanned chunk.
+    n_jobs : int or None, default=None
+        Parallel joblib workers over units (ignored with ``client``).
+    client : dask.distributed.Client or None, default=None
+        Run the units on this dask cluster (``pip install "sktiction[dask]"``); the
+        workers read their own files, so the paths must be readable there. The
+        report is the same as a local scan's.
+    progress : bool, default=False
+        Progress bar over files with rate and ETA on standard error (tqdm).
+    ts : float or None, default=None
+        Sampling time in seconds for files without a time column.
+    max_gap : "auto", int or None, default="auto"
+        Longest NaN gap bridged (:func:`~sktiction._validation.repair_gaps`); ``None``
+        leaves gaps as they are (such loops get ``status = "nan_gap"``).
+
+    Returns
+    -------
+    report : pandas.DataFrame
+        One row per loop, in file order, reader's columns first (its ``status`` and
+        ``reason`` as ``input_status``, ``input_reason``; with gap repair also
+        ``n_bridged``, ``n_gaps_split``, ``kept_start``, ``kept_stop``), then the
+        columns of :func:`scan_loops`. A file that cannot be read, or is not a loop
+        file, gets one row with ``status = "unreadable"`` and the reader's reason.
+
+    See Also
+    --------
+    scan_loops : the same scan on loops already in memory.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> import pandas as pd
+    >>> from sktiction.datasets import make_loops
+    >>> from sktiction.reports import scan_files
+    >>> from sktiction import pretrained_classifier
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> X, _ = make_loops(2, n_samples=1200, random_state=0)
+    >>> for i in range(2):
+    ...     pd.DataFrame({"t": range(1200), "PV": X[i, :, 0], "OP": X[i, :, 1]}).to_csv(
+    ...         folder / f"FIC10{i}.csv", index=False)
+    >>> _ = (folder / "notes.doc").write_text("not a loop")
+    >>> clf = pretrained_classifier(n_loops=60, n_samples=1000)
+    >>> scan_files(folder, classifier=clf)[["file", "status"]].to_dict("list")
+    {'file': ['FIC100.csv', 'FIC101.csv', 'notes.doc'], 'status': ['ok', 'ok', 'unreadable']}
+    """
+    chunk_size = int(chunk_size)
+    if chunk_size < 1:
+        raise ValueError(f"chunk_size must be an integer >= 1; got {chunk_size!r}.")
+    files = list_loop_files(paths)
+    if files.empty:
+        raise ValueError(f"paths holds no files: {paths!r}.")
+    learned = LearnedAdapter(classifier if classifier is not None else pretrained_classifier())
+    rules = _Rules(check_loops(np.zeros((1, 30, 3))))
+    gate = _applicability_gate()
+    groups = _groups(files, chunk_size)
+    args = (channels, ts, max_gap)
+    parts = [None] * len(groups)
+    with progress_bar(len(files), progress, unit="file") as bar:
+        if client is not None:
+            from distributed import as_completed
+
+            shared = client.scatter([learned, rules], broadcast=True)
+            run = uuid.uuid4().hex
+            futures = [
+                client.submit(_scan_group, g, *args, shared[0], shared[1], gate, chunk_size,
+                              pure=False, key=f"sktiction-scan-{run}-{k}")
+                for k, g in enumerate(groups)
+            ]
+            index = {f.key: k for k, f in enumerate(futures)}
+            for future in as_completed(futures):
+                k = index[future.key]
+                parts[k] = future.result()
+                bar.update(len(groups[k]))
+                future.release()
+        else:
+            jobs = (
+                delayed(_scan_group)(g, *args, learned, rules, gate, chunk_size) for g in groups
+            )
+            results = Parallel(n_jobs=n_jobs, return_as="generator")(jobs)
+            for k, part in enumerate(results):
+                parts[k] = part
+                bar.update(len(groups[k]))
+    return pd.concat(parts, ignore_index=True)
