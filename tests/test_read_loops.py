@@ -507,3 +507,14 @@ def test_per_file_reader_does_not_pad(tmp_path):
     write(tmp_path / "short.csv", "t,PV,OP\n0,1,2\n1,2,3\n2,3,4\n")
     shapes = [read_loop_file(p).X.shape for p in sorted(tmp_path.iterdir())]
     assert shapes == [(1, 20_000, 3), (1, 3, 3)]
+
+
+def test_units_in_column_names(tmp_path):
+    f = write(
+        tmp_path / "u.csv", "time [ms],FIC1.PV [m3/h],FIC1.OP (%)\n0,1,2\n250,3,4\n500,5,6\n"
+    )
+    row = read_loop_file(f).meta.iloc[0]
+    assert row["tag"] == "FIC1" and row["ts"] == 0.25
+    assert row["reason"] == "time in ms (from the column name)"
+    g = write(tmp_path / "g.csv", "t_min,PV,OP\n0,1,2\n1,3,4\n2,5,6\n")
+    assert read_loop_file(g).meta.loc[0, "ts"] == 60

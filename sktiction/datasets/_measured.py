@@ -41,9 +41,15 @@ _ALIASES = {
     "pv": ("pv", "y", "cv", "meas", "measurement", "process_variable"),
     "op": ("op", "mv", "out", "co", "output", "controller_output", "u"),
     "sp": ("sp", "sv", "setpoint", "set_point", "r", "ref"),
-    "time": ("time", "t", "t_s", "time_s", "timestamp", "datetime", "date_time", "date"),
+    "time": (
+        "time", "t", "t_s", "time_s", "t_ms", "time_ms", "t_min", "time_min", "t_h", "time_h",
+        "timestamp", "datetime", "date_time", "date",
+    ),
     "mode": ("mode", "aut", "auto"),
 }
+_UNIT = re.compile(r"\s*[\[(][^\])]*[\])]$")
+_TIME_UNIT = re.compile(r"[\[(_ ](ms|min|h)[\])]?$")
+_TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
 _KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}
 _LOOP_KEYS = ("pv", "op", "sp", "mode")
 # Text in a MODE column: automatic (and cascade) count as closed loop.
@@ -136,15 +142,19 @@ def _file_row(path):
 
 
 def _split(name):
-    """(prefix, channel key) of a column name, or None: full name first, then suffixes."""
-    low = str(name).strip().lower()
+    """(prefix, channel key) of a column name, or None: full name first, then suffixes.
+
+    A unit in brackets at the end (``FIC1.PV [m3/h]``, ``OP (%)``) is ignored.
+    """
+    name = _UNIT.sub("", str(name).strip())
+    low = name.lower()
     if low in _KEY_OF:
         return "", _KEY_OF[low]
     for sep in (".", "_", " "):
         if sep in low:
             head, tail = low.rsplit(sep, 1)
             if tail.strip() in _KEY_OF:
-                return str(name).strip()[: len(head)].strip(), _KEY_OF[tail.strip()]
+                return name[: len(head)].strip(), _KEY_OF[tail.strip()]
     return None
 
 
@@ -312,6 +322,11 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
         if strict and raw.isna().any():
             raise FileError(f"time column {label!r} has {int(raw.isna().sum())} empty values")
         t, start, time_notes = parse_times(raw, time_format=info["time_format"], unit=time_unit)
+        unit = _TIME_UNIT.search(label.lower())
+        if unit and pd.isna(start) and time_unit == "auto" and not time_notes:
+            # Relative numeric times whose column name gives the unit: "time [ms]", "t_min".
+            t = t * _TIME_SCALE[unit.group(1)]
+            time_notes = [f"time in {unit.group(1)} (from the column name)"]
         notes += time_notes
         ok = ~np.isnan(t)
         if not ok.all():
@@ -436,7 +451,10 @@ def read_loop_file(
         case-insensitively, also after a ``<tag>.``, ``<tag>_`` or ``<tag> `` prefix: PV
         from PV/Y/CV, OP from OP/MV/OUT/CO, SP from SP/SV/SETPOINT, time from
         TIME/T/T_S/TIMESTAMP/DATETIME/DATE (a DATE and a TIME column are joined), mode
-        from MODE. Several prefixes with a PV each give one loop per prefix.
+        from MODE. A unit in brackets ending a name is ignored (``FIC1.PV [m3/h]``), except
+        that relative times named in ``[ms]``, ``[min]``, ``[h]`` (or ``_ms``, ``_min``,
+        ``_h``) are scaled to seconds. Several prefixes with a PV each give one loop per
+        prefix; untagged columns beside a single tagged loop belong to it.
     ts : float or None, default=None
         Sampling time in seconds. Needed for files without a time column; when given it
         overrides the timestamps (a disagreement is noted in the reason).
