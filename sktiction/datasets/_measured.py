@@ -419,7 +419,7 @@ def _strict_order(t, raw):
 def _meta_frame(rows):
     meta = pd.DataFrame(rows).reindex(columns=_META_COLUMNS)
     meta["n_samples"] = meta["n_samples"].fillna(0).astype(int)
-    meta["n_nan"] = meta["n_nan"].astype(float)
+    meta["n_nan"] = meta["n_nan"].fillna(0).astype(int)
     meta["ts"] = meta["ts"].astype(float)
     meta["auto_fraction"] = meta["auto_fraction"].astype(float)
     meta["start"] = pd.to_datetime(meta["start"])
