@@ -237,7 +237,10 @@ def _open_text(path):
         raise FileError("file is empty")
     encoding = _encoding(raw)
     head = codecs.getincrementaldecoder(encoding)(errors="replace").decode(raw, final=False)
-    lines = head.splitlines()
+    # Only the line ends the C parser knows: str.splitlines also splits at \x0c or \x85.
+    lines = re.split(r"\r\n|\r|\n", head)
+    if lines and lines[-1] == "":
+        lines.pop()
     if more and len(lines) > 1:
         lines = lines[:-1]  # the last line may be cut by the read size
     notes = []
