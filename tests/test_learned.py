@@ -233,11 +233,11 @@ def test_pretrained_classifier_is_built_once_and_loaded_in_a_new_process(tmp_pat
     learned_module._trained.cache_clear()
     args = dict(random_state=3, n_loops=40, n_samples=600)
     clf = learned_module.pretrained_classifier(**args)
-    assert learned_module._trained(3, 40, 600, True)[1] == "built (missing)"
+    assert learned_module._trained(3, 40, 600, True, "default")[1] == "built (missing)"
     assert len(list(tmp_path.glob("learned-*.joblib"))) == 1
     code = (
         "from sktiction.classifiers import learned as m; "
-        "print(m._trained(3, 40, 600, True)[1])"
+        'print(m._trained(3, 40, 600, True, "default")[1])'
     )
     env = {**os.environ, "SKTICTION_CACHE": str(tmp_path)}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
@@ -251,7 +251,7 @@ def test_pretrained_classifier_is_built_once_and_loaded_in_a_new_process(tmp_pat
     monkeypatch.setattr(
         learned_module, "training_key", lambda *a: {**real_key(*a), "source": "changed"}
     )
-    assert learned_module._trained(3, 40, 600, True)[1] == "built (stale)"
+    assert learned_module._trained(3, 40, 600, True, "default")[1] == "built (stale)"
     learned_module._trained.cache_clear()
     X, _ = make_loops(5, n_samples=600, random_state=1)
     assert np.array_equal(clf.predict(X), learned_module.pretrained_classifier(**args).predict(X))

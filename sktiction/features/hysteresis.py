@@ -21,10 +21,20 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import OP, PV
-from ..cycles import dominant_period, moving_average, noise_std, remove_mean
+from ..cycles import autocorrelation, dominant_period, moving_average, noise_std, remove_mean
 from ._loops import LoopTransformer, control_error
+from .stiction_model import fit_stiction_band
 
-FEATURES = ("stuck_share", "moving_share", "hysteresis_fill")
+FEATURES = (
+    "stuck_share",
+    "moving_share",
+    "hysteresis_fill",
+    "stuck_share_slow",
+    "moving_share_slow",
+    "hysteresis_fill_slow",
+    "valve_fit_gain",
+    "valve_fit_band_share",
+)
 
 
 def _window(x, n):
@@ -36,6 +46,34 @@ def _window(x, n):
     if np.isfinite(period) and strength > 0.2:
         return int(np.clip(round(period / 32), 2, max(2, n // 20))), period
     return int(np.clip(round(n / 400), 2, max(2, n // 20))), np.nan
+
+
+def time_scale(op, n):
+    """OP's own time scale: the lag (samples) where its autocorrelation falls below 0.5.
+
+    Unlike a period it exists whether or not the loop oscillates, and unlike the
+    record length it belongs to the loop's dynamics (clipped to 2 .. n / 10).
+    """
+    r = autocorrelation(op, max(2, min(n // 2, 2000)))
+    below = np.flatnonzero(r < 0.5)
+    tau = below[0] if below.size else n // 10
+    return int(np.clip(tau, 2, max(2, n // 10)))
+
+
+def _block_means(x, k):
+    m = x.size // k
+    return x[: m * k].reshape(m, k).mean(axis=1)
+
+
+def valve_fit(pv, op, k):
+    """Valve dead-band model fit (:func:`~sktiction.features.stiction_model.fit_stiction_band`)
+    on block means of ``k`` samples: averaging first keeps measurement noise from
+    drowning the few slips of a sticky valve. Returns ``(gain, band / OP span)``."""
+    p, o = _block_means(pv, k), _block_means(op, k)
+    if p.size < 60 or np.ptp(o) == 0:
+        return np.nan, np.nan
+    gain, band = fit_stiction_band(p, o)
+    return gain, band / np.ptp(o) if np.isfinite(band) else np.nan
 
 
 def _moves(x, w):
@@ -97,6 +135,12 @@ class PVOPHysteresis(LoopTransformer):
     - ``hysteresis_fill``: area swept in the (OP, control error) plane over that of
       a rectangle of the same height and OP travel; 0 for PV in phase with OP,
       near 1 for the parallelogram of stick-slip.
+    - ``*_slow``: the same three with windows of a quarter of OP's own time scale
+      (:func:`time_scale`, the lag where OP's autocorrelation falls below 0.5),
+      which exists whether or not the loop oscillates.
+    - ``valve_fit_gain``, ``valve_fit_band_share``: the valve dead-band model fit
+      of :class:`~sktiction.features.StictionModelFit` on block means over that
+      window, so that noise does not drown the slips.
 
     Every column is unchanged when PV, SP and OP are scaled or shifted (each is a
     ratio of quantities in the same signal's units), and none grows with the
@@ -124,4 +168,9 @@ class PVOPHysteresis(LoopTransformer):
         pv = loops[i, :n, PV]
         w, period = _window(op, n)
         stuck, moving = stuck_share(pv, op, w)
-        return [stuck, moving, hysteresis_fill(err, op, w, period)]
+        row = [stuck, moving, hysteresis_fill(err, op, w, period)]
+        # the same at OP's own time scale, which every loop has, oscillating or not
+        slow = max(2, round(time_scale(op, n) / 4))
+        stuck, moving = stuck_share(pv, op, slow)
+        row += [stuck, moving, hysteresis_fill(err, op, slow, np.nan)]
+        return row + list(valve_fit(pv, op, slow))
