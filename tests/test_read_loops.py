@@ -148,13 +148,13 @@ def test_repairs_by_default(tmp_path):
     # Three files strict mode rejects above, read with a note instead.
     text = read_loops(write(tmp_path / "text.csv", "t,pv,op\n0,1,1\n1,bad,2\n"))
     np.testing.assert_array_equal(text.X[0, :, 0], [1, np.nan])
-    assert text.meta.loc[0, "reason"] == "1 text values in PV read as NaN ('bad' x1)"
+    assert text.meta.loc[0, "reason"] == "1 text value in PV read as NaN ('bad' x1)"
     uns = read_loops(write(tmp_path / "uns.csv", "t,pv,op\n0,1,1\n2,2,2\n1,3,3\n"))
     np.testing.assert_array_equal(uns.X[0, :, 0], [1, 3, 2])
-    assert uns.meta.loc[0, "reason"] == "rows not in time order (1 steps back): sorted"
+    assert uns.meta.loc[0, "reason"] == "rows not in time order (1 step back): sorted"
     dup = read_loops(write(tmp_path / "dup.csv", "t,pv,op\n0,1,1\n1,2,2\n1,3,3\n2,4,4\n"))
     np.testing.assert_array_equal(dup.X[0, :, 0], [1, 2, 4])  # the first of the pair kept
-    assert dup.meta.loc[0, "reason"] == "1 duplicated timestamps: kept the first row of each"
+    assert dup.meta.loc[0, "reason"] == "1 duplicated timestamp: kept the first row of each"
 
 
 def test_bad_historian_rows(tmp_path):
@@ -173,7 +173,7 @@ def test_bad_historian_rows(tmp_path):
     g = write(tmp_path / "g.txt", historian_text(rows=rows))
     with pytest.raises(ValueError, match=r"g.txt: column '2111FIC10201.PV' is not numeric"):
         read_loops(g, strict=True)
-    assert "1 text values in PV read as NaN ('x' x1)" in read_loops(g).meta.loc[0, "reason"]
+    assert "1 text value in PV read as NaN ('x' x1)" in read_loops(g).meta.loc[0, "reason"]
     with pytest.raises(ValueError, match="missing.txt: file does not exist"):
         read_loops(tmp_path / "missing.txt")
 
@@ -288,7 +288,7 @@ def test_export_duplicated_timestamp_keeps_first():
     data, row = ok("historian_duplicate.txt")
     np.testing.assert_allclose(data.X[0, :, 0], PV)  # the second row at 21:55:40 (99) dropped
     np.testing.assert_allclose(data.X[0, :, 1], OP)
-    assert row["reason"] == "1 duplicated timestamps: kept the first row of each"
+    assert row["reason"] == "1 duplicated timestamp: kept the first row of each"
     assert row["ts"] == 10 and row["start"] == START and row["tag"] == "2111FIC10201"
     assert read("historian_duplicate.txt", strict=True).meta.loc[0, "status"] == "error"
 
@@ -299,7 +299,7 @@ def test_export_status_text():
     np.testing.assert_array_equal(np.flatnonzero(np.isnan(data.X[0, :, 1])), [8])
     assert row["reason"] == (
         "4 text values in PV read as NaN ('Bad' x1, 'I/O Timeout' x1, 'Shutdown' x1, ...); "
-        "1 text values in OP read as NaN ('Calc Failed' x1)"
+        "1 text value in OP read as NaN ('Calc Failed' x1)"
     )
     assert row["n_nan"] == 5 and row["loop_type"] == "level"
     strict = read("historian_status.txt", strict=True).meta.iloc[0]
@@ -378,7 +378,7 @@ def test_export_excel_and_parquet():
     assert np.flatnonzero(np.isnan(data.X[0, :, 0])).tolist() == [4]
     assert row["start"] == START and row["ts"] == 10 and row["tag"] == "FIC8"
     assert (
-        row["reason"] == "2 rows above the header skipped; 1 text values in PV read as NaN "
+        row["reason"] == "2 rows above the header skipped; 1 text value in PV read as NaN "
         "('Bad' x1)"
     )
     pytest.importorskip("pyarrow")
@@ -417,7 +417,7 @@ def test_folder_with_nothing_readable(tmp_path):
     listed = list_loop_files([tmp_path, tmp_path / "nope"])
     assert listed["supported"].tolist() == [False, False, False]
     assert (
-        listed["reason"].iloc[1] == "folder holds no readable loop file (1 files, none readable)"
+        listed["reason"].iloc[1] == "folder holds no readable loop file (1 file, none readable)"
     )
     assert listed["reason"].iloc[2] == "path does not exist"
     with pytest.raises(ValueError, match="holds no readable loop file"):

@@ -29,7 +29,7 @@ from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
 from ._readers import FileError, file_kind, open_table
-from ._timestamps import TIME_UNITS, TimeError, parse_times, regularise
+from ._timestamps import TIME_UNITS, TimeError, count, parse_times, regularise
 
 __all__ = ["list_loop_files", "read_loop_file", "read_loops"]
 
@@ -122,7 +122,7 @@ def list_loop_files(paths):
             found = [_file_row(f) for f in files]
             rows.extend(found)
             if not any(r["supported"] for r in found):
-                what = f"{len(found)} files, none readable" if found else "no files"
+                what = f"{count(len(found), 'file')}, none readable" if found else "no files"
                 reason = f"folder holds no readable loop file ({what})"
                 rows.append({"path": str(p), "supported": False, "reason": reason})
         elif p.exists():
@@ -270,7 +270,7 @@ def _status_note(counts, label):
     n = sum(counts.values())
     top = ", ".join(f"{v!r} x{c}" for v, c in counts.most_common(3))
     more = ", ..." if len(counts) > 3 else ""
-    return f"{n} text values in {label} read as NaN ({top}{more})"
+    return f"{count(n, 'text value')} in {label} read as NaN ({top}{more})"
 
 
 # ---- one file ------------------------------------------------------------------------------
@@ -330,7 +330,7 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
         notes += time_notes
         ok = ~np.isnan(t)
         if not ok.all():
-            notes.append(f"{int((~ok).sum())} rows without a readable time skipped")
+            notes.append(f"{count(int((~ok).sum()), 'row')} without a readable time skipped")
             t, values, raw = t[ok], values[ok], raw[ok]
         if strict:
             _strict_order(t, raw)
@@ -511,7 +511,7 @@ default="auto"
     >>> data.meta[["tag", "loop_type", "ts", "status"]].to_dict("records")[0]
     {'tag': 'FIC1', 'loop_type': 'flow', 'ts': 10.0, 'status': 'ok'}
     >>> data.meta.loc[0, "reason"]
-    "decimal comma; 1 text values in PV read as NaN ('Bad' x1)"
+    "decimal comma; 1 text value in PV read as NaN ('Bad' x1)"
     """
     ts = _check_args(ts, channels, time_unit)
     path = Path(path)

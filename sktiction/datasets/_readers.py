@@ -26,6 +26,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from ._timestamps import count
+
 __all__ = ["FileError", "file_kind", "open_table"]
 
 TEXT_SUFFIXES = (".txt", ".csv", ".tsv")
@@ -151,7 +153,7 @@ class Table:
         blank = frame.isna().all(axis=1).to_numpy()
         if blank.any():
             # Rows without any value cannot be placed in time: drop them, say how many.
-            self.info["notes"].append(f"{int(blank.sum())} blank rows skipped")
+            self.info["notes"].append(f"{count(int(blank.sum()), 'blank row')} skipped")
             frame = frame.loc[~blank].reset_index(drop=True)
         return frame
 
@@ -210,7 +212,8 @@ def _delimited_header(lines, notes):
     if header is None:
         raise FileError(f"no header row of {n_fields} columns found in the first lines")
     if header > start:
-        notes.append(f"{header - start} lines before the header skipped (titles or comments)")
+        skipped = count(header - start, "line")
+        notes.append(f"{skipped} before the header skipped (titles or comments)")
     names = [f.strip().strip("\ufeff") for f in _fields(lines[header].lstrip("\ufeff"), sep)]
     data = [ln for ln in lines[header + 1 :] if ln.strip()]
     fields = [f for ln in data[:200] for f in _fields(ln, sep)]
@@ -324,7 +327,7 @@ def _open_xlsx(path):
     if header is None:
         raise FileError("no header row (a row of column names) in the first 50 rows")
     if header:
-        notes.append(f"{header} rows above the header skipped")
+        notes.append(f"{count(header, 'row')} above the header skipped")
     names = ["" if pd.isna(c) else str(c).strip() for c in frame.iloc[header]]
     body = frame.iloc[header + 1 :].reset_index(drop=True)
     body.columns = range(body.shape[1])

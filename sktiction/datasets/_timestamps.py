@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 import pandas as pd
 
-__all__ = ["TIME_UNITS", "parse_times", "regularise"]
+__all__ = ["TIME_UNITS", "count", "parse_times", "regularise"]
 
 TIME_UNITS = ("auto", "s", "epoch_s", "epoch_ms", "epoch_us", "epoch_ns", "excel")
 _EXCEL_ORIGIN = pd.Timestamp("1899-12-30")  # serial day 0 of Excel's 1900 date system
@@ -35,6 +35,11 @@ _TEXT_FORMATS = (
 )  # fmt: skip
 _TIME_OF_DAY = r"\d{1,2}:\d{2}(:\d{2}([.,]\d+)?)?"
 _SAMPLE = 200  # values used to choose a text format before parsing the whole column
+
+
+def count(n, noun):
+    """``"1 row"``, ``"3 rows"``: a count for a note a person reads."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 class TimeError(ValueError):
@@ -275,19 +280,20 @@ def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.
     >>> t.tolist(), v[:, 0].round(2).tolist(), step
     ([0.0, 10.0, 20.0, 30.0], [0.0, 1.0, 1.91, 3.0], 10.0)
     >>> notes[0]
-    '1 duplicated timestamps: kept the first row of each'
+    '1 duplicated timestamp: kept the first row of each'
     """
     notes = []
     values = np.asarray(values, dtype=float).reshape(len(t), -1)
     dt = np.diff(t)
     if (dt < 0).any():
         order = np.argsort(t, kind="stable")  # stable: file order decides among duplicates
-        notes.append(f"rows not in time order ({int((dt < 0).sum())} steps back): sorted")
+        notes.append(f"rows not in time order ({count(int((dt < 0).sum()), 'step')} back): sorted")
         t, values = t[order], values[order]
         dt = np.diff(t)
     if (dt == 0).any():
         keep = np.concatenate([[True], dt != 0])
-        notes.append(f"{int((~keep).sum())} duplicated timestamps: kept the first row of each")
+        dups = count(int((~keep).sum()), "duplicated timestamp")
+        notes.append(f"{dups}: kept the first row of each")
         t, values = t[keep], values[keep]
         dt = np.diff(t)
     if len(t) < 2:
@@ -297,7 +303,7 @@ def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.
     if not off.any():
         return t, values, step, notes
     note = (
-        f"irregular sampling: {int(off.sum())} intervals differ from {step:g} s "
+        f"irregular sampling: {count(int(off.sum()), 'interval')} differ from {step:g} s "
         f"(min {dt.min():g}, max {dt.max():g})"
     )
     if strict:
@@ -325,7 +331,7 @@ def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.
     if inside_gap.any():
         n_gaps = int((dt > gap_steps * step).sum())
         note += (
-            f"; {n_gaps} time gaps longer than {gap_steps:g} steps left as NaN "
-            f"({int(inside_gap.sum())} rows)"
+            f"; {count(n_gaps, 'time gap')} longer than {gap_steps:g} steps left as NaN "
+            f"({count(int(inside_gap.sum()), 'row')})"
         )
     return grid, out, step, [*notes, note]
