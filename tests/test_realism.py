@@ -217,7 +217,7 @@ def test_calibrate_recovers_parameters(pool, effect, params, tol):
     the loops (60 % for averaging, whose dip a loop's own dynamics can hide)."""
     X, _ = pool
     meas = apply_effects(X[:40], [effect], random_state=0)
-    realism = calibrate(meas)
+    realism = calibrate(meas, refine=False)
     name = _NAMES[type(effect)]
     assert isinstance(EFFECTS[name].make(**params), type(effect))
     assert realism.share(name) >= (0.6 if name == "interval_averaging" else 0.75)
@@ -237,7 +237,7 @@ def test_calibrated_world_closes_the_gap(pool):
     truth = [historian.IntervalAveraging(3), historian.HoldLastValue(0.25)]
     meas = apply_effects(X[40:80], truth, random_state=1)
     before = compare(sim, meas, domain=False)
-    realism = calibrate(meas)
+    realism = calibrate(meas, refine=False)
     assert isinstance(realism, Realism) and "snr_db_range" in realism.overrides
     after = compare(apply_recording(sim, realism, random_state=2), meas, domain=False)
     assert before["significant"].sum() >= 2
@@ -250,13 +250,13 @@ def test_calibrate_per_loop_type_and_errors(pool):
     meas = np.concatenate(
         [apply_effects(X[:10], [historian.HoldLastValue(0.3)], random_state=0), X[10:20]]
     )
-    realism = calibrate(meas, loop_types=["level"] * 10 + ["flow"] * 10)
+    realism = calibrate(meas, loop_types=["level"] * 10 + ["flow"] * 10, refine=False)
     assert realism.share("hold_last_value", loop_type="level") == 1.0
     assert realism.share("hold_last_value", loop_type="flow") == 0.0
     rng = np.random.default_rng(0)
     assert all(not realism.recording_effects(rng, loop_type="flow") for _ in range(5))
     with pytest.raises(ValueError, match="loop_types"):
-        calibrate(meas, loop_types=["level"])
+        calibrate(meas, loop_types=["level"], refine=False)
     with pytest.raises(ValueError, match="recording effect"):
         realism.share("noise_level")
     with pytest.raises(ValueError, match="recording effects"):
@@ -270,7 +270,27 @@ def test_make_loops_accepts_calibrated_world(pool):
     if "realism" not in inspect.signature(make_loops).parameters:
         pytest.skip("make_loops has no realism argument yet")
     X, _ = pool
-    realism = calibrate(apply_effects(X[:20], [historian.HoldLastValue(0.4)], random_state=0))
+    realism = calibrate(
+        apply_effects(X[:20], [historian.HoldLastValue(0.4)], random_state=0), refine=False
+    )
     Xr, _ = make_loops(10, 400, realism=realism, random_state=0)
     stats = loop_statistics(Xr)
     assert (stats["hold_fraction"] > 0.1).mean() >= 0.8
+
+
+def test_calibrate_matches_noise_level():
+    """A quiet 'measured' world: the refined SNR range brings the noise level gap to nothing."""
+    import inspect
+
+    if "realism" not in inspect.signature(make_loops).parameters:
+        pytest.skip("make_loops has no realism argument yet")
+    meas, _ = make_loops(60, 500, snr_db_range=(25.0, 35.0), random_state=1)
+    sim, _ = make_loops(60, 500, random_state=2)
+    realism = calibrate(meas, random_state=0)
+    lo, hi = realism.overrides["snr_db_range"]
+    assert lo > 10.0  # quieter than the default world's 0-30 dB
+    Xr, _ = make_loops(60, 500, realism=realism, random_state=3)
+    before = compare(sim, meas, domain=False).set_index("effect")
+    after = compare(Xr, meas, domain=False).set_index("effect")
+    assert before.loc["noise_level", "significant"]
+    assert abs(after.loc["noise_level", "effect_size"]) < 0.3

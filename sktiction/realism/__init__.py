@@ -12,6 +12,7 @@
 from ._catalog import EFFECTS, RealismEffect, effect_names
 from .calibrate import Realism, apply_effects, apply_recording, calibrate
 from .compare import as_statistics, compare, domain_gap
+from .plots import plot_compare
 from .statistics import STATISTIC_COLUMNS, loop_statistics
 
 __all__ = [
@@ -27,4 +28,5 @@ __all__ = [
     "Realism",
     "apply_effects",
     "apply_recording",
+    "plot_compare",
 ]

@@ -155,9 +155,16 @@ def _fit_colour(stats):
 
 
 def _fit_length(stats):
+    # records cut short: shorter than 90 % of the typical (median) record
     n = _col(stats, "n_samples")
     n = n[n > 0]
-    return {"min_length": int(max(20, np.percentile(n, 10)))} if len(n) else {}
+    if len(n) == 0:
+        return {}
+    short = n < 0.9 * np.median(n)
+    out = {"short_fraction": float(short.mean())}
+    if short.any():
+        out["min_length"] = int(max(20, n[short].min()))
+    return out
 
 
 def _fit_slips(stats):

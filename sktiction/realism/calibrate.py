@@ -10,6 +10,7 @@ import pandas as pd
 from .._validation import CHANNELS, check_loops, check_random_state_seed
 from ._catalog import EFFECTS, effect_names
 from .compare import as_statistics
+from .statistics import loop_statistics
 
 __all__ = ["Realism", "calibrate", "apply_effects", "apply_recording"]
 
@@ -48,7 +49,7 @@ class Realism:
     >>> from sktiction.realism import apply_effects, calibrate
     >>> from sktiction.simulation import HoldLastValue
     >>> X, _ = make_loops(10, 400, world="classic", random_state=0)
-    >>> realism = calibrate(apply_effects(X, [HoldLastValue(0.3)], random_state=0))
+    >>> realism = calibrate(apply_effects(X, [HoldLastValue(0.3)], random_state=0), refine=False)
     >>> realism.share("hold_last_value")
     1.0
     >>> [type(e).__name__ for e in realism.recording_effects(np.random.default_rng(0))]
@@ -144,7 +145,7 @@ class Realism:
         return f"Realism(n_loops={len(self.profiles)}, {shares or 'no recording effects'})"
 
 
-def calibrate(measured, *, loop_types=None, random_state=None):
+def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
     """Fit the catalog's recording effects and world settings to measured loops.
 
     Each measured loop's statistics say which recording effects of
@@ -161,8 +162,12 @@ def calibrate(measured, *, loop_types=None, random_state=None):
     loop_types : array-like of str or None, default=None
         Loop type of each measured loop (overrides the Bunch's); profiles can then be drawn
         per type with ``Realism.recording_effects(rng, loop_type=...)``.
+    refine : bool, default=True
+        Correct the SNR range with one pilot simulation of 80 loops of
+        ``make_loops(..., realism=...)`` (about a second) so that simulated noise levels
+        match the measured ones; needs the ``realism`` argument of ``make_loops``.
     random_state : None, int or numpy.random.Generator, default=None
-        Unused by the fit itself (it is deterministic); accepted for a uniform interface.
+        Seed of the pilot simulation (the per-loop fit itself is deterministic).
 
     Returns
     -------
@@ -212,7 +217,38 @@ def calibrate(measured, *, loop_types=None, random_state=None):
         fit = EFFECTS[name].fit
         if fit is not None:
             overrides.update({k: v for k, v in fit(stats).items() if k in allowed})
-    return Realism(profiles, overrides, stats)
+    realism = Realism(profiles, overrides, stats)
+    if refine and "snr_db_range" in overrides and "realism" in allowed:
+        _refine_snr(realism, random_state)
+    return realism
+
+
+def _refine_snr(realism, random_state, n_loops=80, n_samples=600):
+    """Shift the SNR range so that simulated noise levels match the measured ones.
+
+    The first guess maps each loop's noise level (noise sd over the error's 5-95 % range) to
+    an SNR as if the error were Gaussian; loads, setpoint moves and recording change that
+    ratio in the simulated world. One pilot simulation measures the simulated noise levels'
+    10 and 90 % quantiles and moves each end of the range by the dB that separate them from
+    the measured ones.
+    """
+    from ..datasets import make_loops
+
+    measured = realism.statistics["noise_level"].to_numpy(dtype=float)
+    measured = measured[np.isfinite(measured) & (measured > 0)]
+    if len(measured) < 5:
+        return
+    X, _ = make_loops(n_loops, n_samples, realism=realism, random_state=random_state)
+    level = loop_statistics(X)["noise_level"].to_numpy(dtype=float)
+    level = level[np.isfinite(level) & (level > 0)]
+    if len(level) < 5:
+        return
+    lo, hi = realism.overrides["snr_db_range"]
+    shift = 20 * np.log10(np.percentile(level, [10, 90]) / np.percentile(measured, [10, 90]))
+    # higher simulated noise needs a higher SNR; the 10 % noise quantile sets the high SNR end
+    new_lo, new_hi = hi + shift[0], lo + shift[1]
+    new_lo, new_hi = sorted((float(np.clip(new_lo, -10, 60)), float(np.clip(new_hi, -10, 60))))
+    realism.overrides["snr_db_range"] = (new_lo, max(new_hi, new_lo + 1.0))
 
 
 def apply_effects(X, effects, *, ts=1.0, random_state=None):
@@ -274,7 +310,7 @@ def apply_recording(X, realism, *, ts=1.0, loop_types=None, random_state=None):
     >>> from sktiction.realism import apply_effects, apply_recording, calibrate
     >>> from sktiction.simulation import HoldLastValue
     >>> X, _ = make_loops(6, 300, world="classic", random_state=0)
-    >>> realism = calibrate(apply_effects(X, [HoldLastValue(0.4)], random_state=0))
+    >>> realism = calibrate(apply_effects(X, [HoldLastValue(0.4)], random_state=0), refine=False)
     >>> Xr = apply_recording(X, realism, random_state=0)
     >>> bool((Xr[:, 1:, 0] == Xr[:, :-1, 0]).mean() > 0.2)
     True

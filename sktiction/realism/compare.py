@@ -13,6 +13,9 @@ from .statistics import STATISTIC_COLUMNS, loop_statistics
 
 __all__ = ["compare", "domain_gap", "as_statistics"]
 
+# Largest difference in the share of loops missing a statistic for it to enter the domain AUC.
+_MISSING_GAP = 0.1
+
 
 def as_statistics(loops):
     """Per-loop statistics from loops, a ``read_loops`` Bunch, or statistics already computed.
@@ -161,7 +164,7 @@ def compare(simulated, measured, *, alpha=0.05, domain=True, cv=5, random_state=
     return table
 
 
-def domain_gap(simulated, measured, *, cv=5, random_state=0):
+def domain_gap(simulated, measured, *, exclude=("n_samples",), cv=5, random_state=0):
     """Cross-validated AUC of a classifier telling simulated from measured loops.
 
     One number for the whole gap: a gradient-boosted tree classifier
@@ -170,10 +173,17 @@ def domain_gap(simulated, measured, *, cv=5, random_state=0):
     ROC AUC is 0.5 when the simulated loops are indistinguishable from the measured ones and
     1 when every loop betrays its origin.
 
+    Left out: the record length (``exclude``; the caller of ``make_loops`` sets it, and the
+    table reports it), and any statistic missing far more often on one side (by more than 10
+    percentage points of the loops, e.g. SP statistics when only one side records SP): a
+    missing channel is not a realism gap the simulator could close.
+
     Parameters
     ----------
     simulated, measured : array-like, Bunch or DataFrame
         As in :func:`compare`.
+    exclude : tuple of str, default=("n_samples",)
+        Statistics not given to the classifier.
     cv : int, default=5
         Folds (reduced to the size of the smaller set when needed, at least 2).
     random_state : None, int or numpy.random.Generator, default=0
@@ -198,7 +208,15 @@ def domain_gap(simulated, measured, *, cv=5, random_state=0):
 
     s_stats = as_statistics(simulated)
     m_stats = as_statistics(measured)
-    cols = list(dict.fromkeys(e.statistic for e in EFFECTS.values()))
+    exclude = set(exclude)
+    cols = []
+    for c in dict.fromkeys(e.statistic for e in EFFECTS.values()):
+        missing_s = np.isnan(s_stats[c].to_numpy(dtype=float)).mean()
+        missing_m = np.isnan(m_stats[c].to_numpy(dtype=float)).mean()
+        if c not in exclude and abs(missing_s - missing_m) <= _MISSING_GAP:
+            cols.append(c)
+    if not cols:
+        return np.nan
     X = np.vstack(
         [s_stats[cols].to_numpy(dtype=float), m_stats[cols].to_numpy(dtype=float)]
     )
