@@ -10,21 +10,27 @@ and, if not, why, in words a person can act on.
 Every threshold is a chance level or a physical bound, none is fitted to measured loops:
 
 - ``too_short``: fewer than :data:`MIN_SAMPLES` samples, the shortest record on which the
-  coherence below has 7 half-overlapping segments of 32 samples (the 32 bins a cycle is
+  coherence below has 7 half-overlapping segments of 32 samples (the 32 points a cycle is
   averaged into for template matching).
 - ``pv_op_unrelated``: in a closed loop the controller makes OP a linear filter of the
   control error, so PV (or SP - PV) and OP are coherent at the frequencies where the loop
   moves. The largest magnitude-squared coherence (Welch, Hann windows, half overlap,
   linear detrend per segment) must exceed its chance level: for independent signals and
-  ``K`` independent segments ``P(C > c) = (1 - c) ** (K - 1)``; ``K`` is corrected for the
-  overlap (Welch's equivalent count, ``K / 1.056`` for Hann at 50 %) and the level is
-  Bonferroni-corrected over the frequencies and signals tested, at :data:`ALPHA`.
+  ``K`` independent segments ``P(C > c) = (1 - c) ** (K - 1)`` (Carter 1987); ``K`` is the
+  equivalent count of the overlapping, detrended segments (``K / 1.2``, checked by a Monte
+  Carlo of independent noise) and the level is Bonferroni-corrected over the frequencies and
+  signals tested, at :data:`ALPHA`. Rows where neither PV nor OP moved (historian holds) are
+  left out first: unrelated signals held together would share their step times.
 - ``quantised``: the values sit on a grid of step ``q`` (sample-to-sample changes are whole
-  multiples of it) and the quantisation noise ``q**2 / 12`` is louder than the noisiest loops
-  the classifiers are trained on: signal-to-quantisation-noise ratio below
-  :data:`MIN_QUANTISATION_SNR_DB` (the low end of ``make_loops``' noise range).
-- ``too_compressed``: more than half of the samples of PV or OP repeat the one before:
-  recording artefacts (hold-last-value, compression) then dominate the record.
+  multiples of it) and the quantisation noise ``q**2 / 12`` is within 10 dB of the signal
+  (signal-to-quantisation-noise ratio ``12 sd**2 / q**2`` below
+  :data:`MIN_QUANTISATION_SNR_DB` = 10 dB, i.e. fewer than about one grid step per standard
+  deviation): the record shows the grid as much as the loop.
+- ``too_compressed``: fewer than :data:`MIN_SAMPLES` rows in which PV or OP moved (the
+  rest are holds: the informative record is shorter than the shortest one analysed), or PV
+  or OP changes on fewer than :data:`MIN_CHANGES` samples (fewer than the 32 points one
+  cycle is averaged into for template matching). Repeat shares come from
+  :func:`sktiction.realism.loop_statistics`, the statistics the realism tools read too.
 - ``constant_pv``, ``constant_op``, ``no_op``, ``nan_gap``, ``empty``, ``not_finite``:
   what they say (``not_finite``: an infinite value, or values so large that their spread
   overflows).
@@ -37,13 +43,14 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
-from scipy import signal
+from numpy.lib.stride_tricks import sliding_window_view
 
 from .._validation import OP, PV, SP, STATUS_EMPTY, STATUS_NAN_GAP, STATUS_OK, STATUS_TOO_SHORT
 
 __all__ = [
     "ALPHA",
     "APPLICABILITY_COLUMNS",
+    "MIN_CHANGES",
     "MIN_QUANTISATION_SNR_DB",
     "MIN_SAMPLES",
     "assess_applicability",
@@ -53,11 +60,12 @@ MIN_SAMPLES = 128
 # False-alarm rate of the coherence test for one loop whose PV and OP are unrelated.
 ALPHA = 1e-3
 MIN_QUANTISATION_SNR_DB = 10.0
-# Share of repeated samples above which recording artefacts dominate a channel.
-MAX_REPEAT_FRACTION = 0.5
-# Welch's equivalent number of independent segments: K / (1 + 2 rho**2), rho = 0.167 for Hann
-# windows overlapping by half (Welch 1967; Percival & Walden 1993, Table 292).
-_HANN_HALF_OVERLAP = 1.0 + 2.0 * 0.167**2
+MIN_CHANGES = 32
+# Equivalent number of independent segments: K / 1.2. Welch's K / (1 + 2 rho**2) = K / 1.056
+# for Hann windows overlapping by half (rho = 0.167) is not conservative once each segment's
+# straight line is removed; a Monte Carlo of independent white noise (300-3,000 samples,
+# see tests/test_applicability.py) gives at most the nominal false-alarm rate with K / 1.2.
+_SEGMENT_DIVISOR = 1.2
 # A change this many grid steps off a whole multiple is off the grid.
 _GRID_TOLERANCE = 0.05
 # Share of changes on the grid for a signal to count as sitting on one.
@@ -79,6 +87,8 @@ APPLICABILITY_COLUMNS = (
     "coherence_chance_level",
     "pv_repeat_fraction",
     "op_repeat_fraction",
+    "n_informative_rows",
+    "n_changes",
     "pv_quantisation_snr_db",
     "op_quantisation_snr_db",
 )
@@ -128,10 +138,6 @@ def _normalise(x, spread):
         return (x - np.median(x)) / spread
 
 
-def _repeat_fraction(x):
-    return float(np.mean(np.diff(x) == 0)) if len(x) > 1 else 0.0
-
-
 def _quantisation_snr_db(x):
     """Signal to quantisation noise ratio in dB, or inf when the values sit on no grid.
 
@@ -153,93 +159,116 @@ def _quantisation_snr_db(x):
     return float(10.0 * np.log10(12.0 * sd**2 / q**2))
 
 
-def _coherence(pairs, n):
-    """Largest coherence over frequencies and signal pairs, and its chance level."""
-    nperseg = int(np.clip(n // 8, 32, 256))
-    noverlap = nperseg // 2
-    n_segments = (n - noverlap) // (nperseg - noverlap)
-    k_eff = n_segments / _HANN_HALF_OVERLAP
-    best = 0.0
-    n_tests = 0
-    for a, b in pairs:
-        _, c = signal.coherence(
-            a, b, nperseg=nperseg, noverlap=noverlap, detrend="linear"
-        )
-        c = c[1:]  # the mean is removed per segment: no information at frequency 0
-        c = c[np.isfinite(c)]
-        n_tests += len(c)
-        if len(c):
-            best = max(best, float(c.max()))
+def _segments(x, nperseg):
+    """Half-overlapping segments of ``x``, each with its own straight line removed."""
+    seg = sliding_window_view(x, nperseg)[:: nperseg // 2]
+    t = np.arange(nperseg) - (nperseg - 1) / 2.0
+    seg = seg - seg.mean(axis=1, keepdims=True)
+    return seg - np.outer(seg @ t / (t @ t), t)
+
+
+def _chance_level(n_tests, n_segments, alpha=ALPHA):
+    """Coherence that unrelated signals exceed in any of ``n_tests`` frequencies with
+    probability ``alpha``: ``P(C > c) = (1 - c) ** (K - 1)`` per frequency for ``K``
+    independent segments (Carter 1987), Bonferroni over the frequencies."""
+    k_eff = n_segments / _SEGMENT_DIVISOR
     if n_tests == 0 or k_eff <= 1:
-        return best, 1.0
-    chance = 1.0 - (ALPHA / n_tests) ** (1.0 / (k_eff - 1.0))
-    return best, float(chance)
+        return 1.0
+    return float(1.0 - (alpha / n_tests) ** (1.0 / (k_eff - 1.0)))
 
 
-def _assess_one(x):
-    """One loop ``x`` (n_samples, 3) with the end padding cut: a row of the result."""
-    row = dict.fromkeys(APPLICABILITY_COLUMNS, np.nan)
-    row["applicable"] = False
+def _coherence(pairs, n):
+    """Largest coherence over frequencies and signal pairs, and its chance level.
+
+    Welch's estimate with periodic Hann windows, half overlap and a linear detrend
+    per segment (the same numbers as ``scipy.signal.coherence(..., detrend="linear")``
+    for an even ``nperseg``, without its per-segment least squares).
+    """
+    nperseg = int(np.clip(n // 12, 32, 256))
+    nperseg -= nperseg % 2
+    window = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(nperseg) / nperseg)
+    best, n_tests, n_segments = 0.0, 0, 0
+    for a, b in pairs:
+        fa = np.fft.rfft(_segments(a, nperseg) * window, axis=1)[:, 1:]
+        fb = np.fft.rfft(_segments(b, nperseg) * window, axis=1)[:, 1:]
+        n_segments = len(fa)
+        cross = np.abs((np.conj(fa) * fb).mean(axis=0)) ** 2
+        power = (np.abs(fa) ** 2).mean(axis=0) * (np.abs(fb) ** 2).mean(axis=0)
+        ok = power > 0  # frequency 0 is left out: the mean is removed per segment
+        n_tests += int(ok.sum())
+        if ok.any():
+            best = max(best, float((cross[ok] / power[ok]).max()))
+    return best, _chance_level(n_tests, n_segments)
+
+
+def _prepare(x):
+    """Checks that need no statistics, and the loop normalised for the others.
+
+    Returns ``(reason, normalised)``: a reason when the loop fails a check (and
+    ``None``), else ``None`` and the loop (n_samples, 3) with PV and SP centred on
+    PV's median and divided by PV's robust spread, OP by its own.
+    """
     n = len(x)
-    row["n_samples"] = n
     pv, op, sp = x[:, PV], x[:, OP], x[:, SP]
-    has_op = bool(np.isfinite(op).any())
-    has_sp = bool(np.isfinite(sp).any()) and not np.isnan(sp).any()
     if n == 0:
-        row["reason"] = STATUS_EMPTY
-        return row
+        return STATUS_EMPTY, None
     if np.isinf(x).any():
-        row["reason"] = REASON_NOT_FINITE
-        return row
+        return REASON_NOT_FINITE, None
     if n < MIN_SAMPLES:
-        row["reason"] = STATUS_TOO_SHORT
-        return row
-    if not has_op:
-        row["reason"] = REASON_NO_OP
-        return row
+        return STATUS_TOO_SHORT, None
+    if np.isnan(op).all():
+        return REASON_NO_OP, None
     if np.isnan(pv).any() or np.isnan(op).any():
-        row["reason"] = STATUS_NAN_GAP
-        return row
+        return STATUS_NAN_GAP, None
     with np.errstate(over="ignore", invalid="ignore"):
         pv_spread, op_spread = _robust_spread(pv), _robust_spread(op)
-    if not (np.isfinite(pv_spread) and np.isfinite(op_spread)):
-        row["reason"] = REASON_NOT_FINITE
-        return row
-    if pv_spread == 0:
-        row["reason"] = REASON_CONSTANT_PV
-        return row
-    if op_spread == 0:
-        row["reason"] = REASON_CONSTANT_OP
-        return row
-    pvn = _normalise(pv, pv_spread)
-    opn = _normalise(op, op_spread)
-    # the control error in PV units: SP shares PV's offset and scale
-    errn = _normalise(sp - pv, pv_spread) if has_sp else None
-    if not (np.isfinite(pvn).all() and np.isfinite(opn).all()) or (
-        errn is not None and not np.isfinite(errn).all()
-    ):
-        row["reason"] = REASON_NOT_FINITE
-        return row
-    row["pv_repeat_fraction"] = _repeat_fraction(pvn)
-    row["op_repeat_fraction"] = _repeat_fraction(opn)
-    row["pv_quantisation_snr_db"] = _quantisation_snr_db(pvn)
-    row["op_quantisation_snr_db"] = _quantisation_snr_db(opn)
-    pairs = [(pvn, opn)]
-    if errn is not None and np.ptp(sp) > 0:
-        pairs.append((errn, opn))
-    coh, chance = _coherence(pairs, n)
-    row["pv_op_coherence"], row["coherence_chance_level"] = coh, chance
+        if not (np.isfinite(pv_spread) and np.isfinite(op_spread)):
+            return REASON_NOT_FINITE, None
+        if pv_spread == 0:
+            return REASON_CONSTANT_PV, None
+        if op_spread == 0:
+            return REASON_CONSTANT_OP, None
+        centre = np.median(pv)
+        out = np.stack([(pv - centre) / pv_spread, _normalise(op, op_spread),
+                        (sp - centre) / pv_spread], axis=1)
+    if not np.isfinite(out[:, :2]).all() or np.isinf(out[:, 2]).any():
+        return REASON_NOT_FINITE, None
+    return None, out
+
+
+def _decide(x, stats):
+    """Statistics and reason of one normalised loop (``stats``: its loop_statistics row)."""
+    n = len(x)
+    pv, op, sp = x[:, PV], x[:, OP], x[:, SP]
+    row = {
+        "pv_repeat_fraction": float(stats["pv_repeat_fraction"]),
+        "op_repeat_fraction": float(stats["op_repeat_fraction"]),
+        "pv_quantisation_snr_db": _quantisation_snr_db(pv),
+        "op_quantisation_snr_db": _quantisation_snr_db(op),
+    }
+    # Rows where neither PV nor OP moved are historian holds, not samples: under them
+    # two unrelated signals would share their step times and look related.
+    moved = np.concatenate([[True], (np.diff(pv) != 0) | (np.diff(op) != 0)])
+    n_rows = int(moved.sum())
+    row["n_informative_rows"] = n_rows
+    pairs = [(pv[moved], op[moved])]
+    if not np.isnan(sp).any() and np.ptp(sp) > 0:
+        pairs.append(((sp - pv)[moved], op[moved]))  # the controller's own input
+    if n_rows >= MIN_SAMPLES:
+        row["pv_op_coherence"], row["coherence_chance_level"] = _coherence(pairs, n_rows)
+    changes = (n - 1) * (1.0 - max(row["pv_repeat_fraction"], row["op_repeat_fraction"]))
+    row["n_changes"] = int(round(changes))
     if min(row["pv_quantisation_snr_db"], row["op_quantisation_snr_db"]) < (
         MIN_QUANTISATION_SNR_DB
     ):
         row["reason"] = REASON_QUANTISED
-    elif max(row["pv_repeat_fraction"], row["op_repeat_fraction"]) > MAX_REPEAT_FRACTION:
+    elif n_rows < MIN_SAMPLES or changes < MIN_CHANGES:
         row["reason"] = REASON_TOO_COMPRESSED
-    elif not coh > chance:
+    elif not row["pv_op_coherence"] > row["coherence_chance_level"]:
         row["reason"] = REASON_UNRELATED
     else:
         row["reason"] = STATUS_OK
-        row["applicable"] = True
+    row["applicable"] = row["reason"] == STATUS_OK
     return row
 
 
@@ -276,7 +305,8 @@ def assess_applicability(X, ts=None):
           (and with SP - PV when SP moves); ``coherence_chance_level``: the level
           unrelated signals exceed with probability :data:`ALPHA`.
         - ``pv_repeat_fraction``, ``op_repeat_fraction``: share of samples equal
-          to the one before.
+          to the one before (:func:`sktiction.realism.loop_statistics`).
+        - ``n_changes``: samples on which the less lively of PV and OP changes.
         - ``pv_quantisation_snr_db``, ``op_quantisation_snr_db``: signal to
           quantisation noise ratio (``inf`` when the values sit on no grid).
         - ``ts``.
@@ -299,18 +329,31 @@ def assess_applicability(X, ts=None):
     [True, True]
     """
     loops = _as_loops(X)
-    n_loops = loops.shape[0]
+    n_loops, n_samples = loops.shape[:2]
     if ts is None and hasattr(X, "meta") and "ts" in getattr(X, "meta", {}):
         ts = X.meta["ts"].to_numpy(dtype=float)
     ts = np.broadcast_to(
         np.asarray(np.nan if ts is None else ts, dtype=float), (n_loops,)
     )
     present = ~np.isnan(loops[:, :, PV])
-    rows = []
-    for i in range(n_loops):
-        idx = np.flatnonzero(present[i])
-        n = idx[-1] + 1 if len(idx) else 0
-        rows.append(_assess_one(loops[i, :n]))
+    lengths = np.where(present.any(axis=1), n_samples - np.argmax(present[:, ::-1], axis=1), 0)
+    rows = [dict.fromkeys(APPLICABILITY_COLUMNS, np.nan) for _ in range(n_loops)]
+    normalised = np.full_like(loops, np.nan)
+    todo = []
+    for i, n in enumerate(lengths):
+        rows[i]["n_samples"] = int(n)
+        reason, x = _prepare(loops[i, :n])
+        if reason is None:
+            normalised[i, :n] = x
+            todo.append(i)
+        else:
+            rows[i].update(applicable=False, reason=reason)
+    if todo:
+        from ..realism import loop_statistics  # one set of per-loop statistics, two users
+
+        stats = loop_statistics(normalised[todo]).to_dict("records")
+        for i, st in zip(todo, stats):
+            rows[i].update(_decide(normalised[i, : lengths[i]], st))
     out = pd.DataFrame(rows, columns=list(APPLICABILITY_COLUMNS))
     out["applicable"] = out["applicable"].astype(bool)
     out["n_samples"] = out["n_samples"].astype(int)
