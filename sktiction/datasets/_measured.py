@@ -417,15 +417,25 @@ def _strict_order(t, raw):
 
 
 def _meta_frame(rows):
-    meta = pd.DataFrame(rows).reindex(columns=_META_COLUMNS)
-    meta["n_samples"] = meta["n_samples"].fillna(0).astype(int)
-    meta["n_nan"] = meta["n_nan"].fillna(0).astype(int)
-    meta["ts"] = meta["ts"].astype(float)
-    meta["auto_fraction"] = meta["auto_fraction"].astype(float)
+    """Meta table from row dicts, with fixed columns and dtypes (built in Python: fast)."""
+
+    def value(row, key, default):
+        v = row.get(key, default)
+        return default if v is None or (isinstance(v, float) and np.isnan(v)) else v
+
+    table = {col: [] for col in _META_COLUMNS}
+    for row in rows:
+        ok = row.get("status") == STATUS_OK
+        for col in ("file", "path", "format", "tag", "isa", "status", "reason"):
+            table[col].append(str(value(row, col, "")))
+        table["loop_type"].append(value(row, "loop_type", "unknown") if ok else "unknown")
+        for col in ("ts", "auto_fraction"):
+            table[col].append(float(value(row, col, np.nan)))
+        for col in ("n_samples", "n_nan"):
+            table[col].append(int(value(row, col, 0)))
+        table["start"].append(row.get("start", pd.NaT))
+    meta = pd.DataFrame(table)
     meta["start"] = pd.to_datetime(meta["start"])
-    for col in ("format", "tag", "isa", "loop_type", "reason"):
-        meta[col] = meta[col].astype(object).where(meta[col].notna(), "")
-    meta.loc[meta["status"] != STATUS_OK, "loop_type"] = "unknown"
     return meta
 
 

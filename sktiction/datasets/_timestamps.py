@@ -122,7 +122,8 @@ def _text_times(raw, time_format):
     def clean(part):
         if not strings:
             return part
-        return (day + part.astype("str").str.strip()).where(part.notna(), None)
+        text = part if isinstance(part.dtype, pd.StringDtype) else part.astype("str")
+        return day + text.str.strip() if day else text.str.strip()
 
     sample = clean(raw.dropna().iloc[:_SAMPLE])
     if len(sample) == 0:
@@ -231,14 +232,12 @@ default="auto"
     if ok.sum() < 0.5 * max(1, raw.notna().sum()):
         bad = raw[raw.notna().to_numpy() & ~ok]
         raise TimeError(f"most values are not times (first bad value: {bad.iloc[0]!r})")
-    start = stamps[ok].min()
+    ns = stamps.to_numpy(dtype="datetime64[ns]").view(np.int64)
+    first = ns[ok].min()
+    t = np.where(ok, (ns - first) / 1e9, np.nan)
     if any(n.startswith("time of day") for n in notes):
-        start_out = pd.NaT  # no date: the 1900-01-01 of the parser is not a start
-    else:
-        start_out = start
-    t = np.full(len(stamps), np.nan)
-    t[ok] = (stamps[ok] - start).dt.total_seconds().to_numpy()
-    return t, start_out, notes
+        return t, pd.NaT, notes  # no date: the 1900-01-01 of the parser is not a start
+    return t, pd.Timestamp(first, unit="ns"), notes
 
 
 def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.0):
