@@ -103,6 +103,22 @@ def _q(values, lo=10, hi=90):
     return tuple(float(v) for v in np.percentile(values, [lo, hi]))
 
 
+def _per_noise(stats, share_of_span):
+    """A size given as a share of the PV span, in units of the PV noise sd (NaN without noise)."""
+    noise = _col(stats, "pv_noise")
+    span = _col(stats, "pv_span")
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = share_of_span * span / noise
+    return np.where(np.isfinite(out) & (noise > 0), out, np.nan)
+
+
+def _band(stats):
+    both = np.stack([_col(stats, "pv_band"), _col(stats, "op_band")])
+    ok = np.isfinite(both)
+    count = ok.sum(axis=0)
+    return np.where(count > 0, np.where(ok, both, 0.0).sum(axis=0) / np.maximum(count, 1), np.nan)
+
+
 def _fit_snr(stats):
     # noise_level = noise sd / 5-95 % error range; a Gaussian-like error spans about 3.3 sd
     level = _col(stats, "noise_level")
@@ -200,24 +216,37 @@ _ENTRIES = [
         "quantisation",
         "pv_level_reuse",
         "recording",
-        "SpanQuantization(step): PV on a grid of step x span",
+        "SpanQuantization(step): PV on a grid of step x span (calibrate: step in noise sd, "
+        "so that values revisit levels as often on loops of other noise levels)",
         "holds and compression repeat values but land on new levels when they move; only "
         "a grid makes a signal revisit its levels.",
         present=lambda s: _col(s, "pv_level_reuse") > _REUSE_MIN,
-        params=lambda s: _frame(step=_col(s, "pv_step")),
-        make=lambda step: historian.SpanQuantization(float(min(max(step, 1e-4), 1.0))),
+        params=lambda s: _frame(
+            step=_col(s, "pv_step"), step_noise=_per_noise(s, _col(s, "pv_step"))
+        ),
+        make=lambda step, step_noise=np.nan: (
+            historian.SpanQuantization(float(min(max(step_noise, 1e-3), 100.0)), unit="noise")
+            if np.isfinite(step_noise)
+            else historian.SpanQuantization(float(min(max(step, 1e-4), 1.0)))
+        ),
     ),
     RealismEffect(
         "deadband_compression",
         "independent_freeze",
         "recording",
-        "DeadbandCompression(band): PV and OP each stored when they moved more than band x span",
+        "DeadbandCompression(band): PV and OP each stored when they moved more than band x "
+        "span (calibrate: band in noise sd)",
         "held rows freeze PV and OP on the same samples (not counted); quantised tags jump "
         "by whole grid steps (not counted); a stuck valve freezes the valve, not OP or PV.",
         present=lambda s: _col(s, "independent_freeze") > _FREEZE_MIN,
-        params=lambda s: _frame(band=np.nanmedian(np.stack([_col(s, "pv_band"),
-                                                            _col(s, "op_band")]), axis=0)),
-        make=lambda band: historian.DeadbandCompression(float(min(max(band, 1e-4), 1.0))),
+        params=lambda s: _frame(
+            band=_band(s), band_noise=_per_noise(s, _col(s, "pv_band"))
+        ),
+        make=lambda band, band_noise=np.nan: (
+            historian.DeadbandCompression(float(min(max(band_noise, 1e-3), 100.0)), unit="noise")
+            if np.isfinite(band_noise)
+            else historian.DeadbandCompression(float(min(max(band, 1e-4), 1.0)))
+        ),
     ),
     RealismEffect(
         "hold_last_value",

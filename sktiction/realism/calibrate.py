@@ -163,9 +163,9 @@ def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
         Loop type of each measured loop (overrides the Bunch's); profiles can then be drawn
         per type with ``Realism.recording_effects(rng, loop_type=...)``.
     refine : bool, default=True
-        Correct the SNR range with one pilot simulation of 80 loops of
-        ``make_loops(..., realism=...)`` (about a second) so that simulated noise levels
-        match the measured ones; needs the ``realism`` argument of ``make_loops``.
+        Correct the SNR range with two pilot simulations of 80 loops of
+        ``make_loops(..., realism=...)`` (a second or two) so that the simulated median noise
+        level matches the measured one; needs the ``realism`` argument of ``make_loops``.
     random_state : None, int or numpy.random.Generator, default=None
         Seed of the pilot simulation (the per-loop fit itself is deterministic).
 
@@ -223,14 +223,14 @@ def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
     return realism
 
 
-def _refine_snr(realism, random_state, n_loops=80, n_samples=600):
-    """Shift the SNR range so that simulated noise levels match the measured ones.
+def _refine_snr(realism, random_state, n_loops=80, n_samples=600, n_steps=2):
+    """Shift the SNR range so that the simulated median noise level matches the measured one.
 
     The first guess maps each loop's noise level (noise sd over the error's 5-95 % range) to
-    an SNR as if the error were Gaussian; loads, setpoint moves and recording change that
-    ratio in the simulated world. One pilot simulation measures the simulated noise levels'
-    10 and 90 % quantiles and moves each end of the range by the dB that separate them from
-    the measured ones.
+    an SNR as if the error were Gaussian; in the simulated world loads, setpoint moves, the
+    noise path and recording change that ratio. Each step simulates ``n_loops`` loops with the
+    current settings and moves both ends of the range by the dB between the simulated and
+    the measured median noise levels.
     """
     from ..datasets import make_loops
 
@@ -238,17 +238,17 @@ def _refine_snr(realism, random_state, n_loops=80, n_samples=600):
     measured = measured[np.isfinite(measured) & (measured > 0)]
     if len(measured) < 5:
         return
-    X, _ = make_loops(n_loops, n_samples, realism=realism, random_state=random_state)
-    level = loop_statistics(X)["noise_level"].to_numpy(dtype=float)
-    level = level[np.isfinite(level) & (level > 0)]
-    if len(level) < 5:
-        return
-    lo, hi = realism.overrides["snr_db_range"]
-    shift = 20 * np.log10(np.percentile(level, [10, 90]) / np.percentile(measured, [10, 90]))
-    # higher simulated noise needs a higher SNR; the 10 % noise quantile sets the high SNR end
-    new_lo, new_hi = hi + shift[0], lo + shift[1]
-    new_lo, new_hi = sorted((float(np.clip(new_lo, -10, 60)), float(np.clip(new_hi, -10, 60))))
-    realism.overrides["snr_db_range"] = (new_lo, max(new_hi, new_lo + 1.0))
+    rng = check_random_state_seed(random_state)
+    for _ in range(n_steps):
+        X, _ = make_loops(n_loops, n_samples, realism=realism, random_state=rng)
+        level = loop_statistics(X)["noise_level"].to_numpy(dtype=float)
+        level = level[np.isfinite(level) & (level > 0)]
+        if len(level) < 5:
+            return
+        shift = 20 * np.log10(np.median(level) / np.median(measured))
+        lo, hi = realism.overrides["snr_db_range"]
+        lo, hi = float(np.clip(lo + shift, -20, 60)), float(np.clip(hi + shift, -20, 60))
+        realism.overrides["snr_db_range"] = (lo, max(hi, lo + 1.0))
 
 
 def apply_effects(X, effects, *, ts=1.0, random_state=None):

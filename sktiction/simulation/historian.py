@@ -62,6 +62,26 @@ def _span(x):
     return float(hi - lo)
 
 
+def _noise_sd(x):
+    """Robust noise sd from second differences (white noise: var(d2) = 6 sd**2)."""
+    d2 = np.diff(x[np.isfinite(x)], 2)
+    d2 = d2[d2 != 0]  # frozen samples are not noise
+    if len(d2) < 5:
+        return 0.0
+    return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / np.sqrt(6.0))
+
+
+def _unit(x, unit):
+    """Scale of a channel: its 5-95 % range, or its noise sd."""
+    return _span(x) if unit == "span" else _noise_sd(x)
+
+
+def _check_unit(unit):
+    if unit not in ("span", "noise"):
+        raise ValueError(f"unit must be 'span' or 'noise'; got {unit!r}.")
+    return unit
+
+
 def _finite_length(sig):
     """Samples before the NaN padding (from PV)."""
     idx = np.flatnonzero(np.isfinite(np.asarray(sig["pv"], dtype=float)))
@@ -159,8 +179,12 @@ class DeadbandCompression(_Recording):
     Parameters
     ----------
     band : float
-        Deadband as a share of each channel's 5-95 % range, in (0, 1).
+        Deadband as a share of each channel's 5-95 % range, in (0, 1]; with
+        ``unit="noise"``, in units of the channel's noise sd (> 0, at most 100).
     channels : tuple of str, default=("pv", "op")
+    unit : {"span", "noise"}, default="span"
+        What ``band`` is measured in. Noise units reproduce how often a tag freezes on
+        loops whose noise differs from the ones the band was measured on.
 
     Examples
     --------
@@ -172,15 +196,16 @@ class DeadbandCompression(_Recording):
     (True, True)
     """
 
-    def __init__(self, band, channels=("pv", "op")):
-        self.band = _check_share(band, "band")
+    def __init__(self, band, channels=("pv", "op"), unit="span"):
+        self.unit = _check_unit(unit)
+        self.band = _check_share(band, "band", upper=1.0 if unit == "span" else 100.0)
         self.channels = _check_channels(channels)
 
     def record(self, signals, ts, rng):
         out = dict(signals)
         for c in self._present(signals):
             x = np.asarray(signals[c], dtype=float)
-            out[c] = _deadband(x, self.band * _span(x))
+            out[c] = _deadband(x, self.band * _unit(x, self.unit))
         return out
 
 
@@ -230,8 +255,12 @@ class SpanQuantization(_Recording):
     Parameters
     ----------
     step : float
-        Grid step as a share of the channel's 5-95 % range, in (0, 1).
+        Grid step as a share of the channel's 5-95 % range, in (0, 1]; with
+        ``unit="noise"``, in units of the channel's noise sd (> 0, at most 100).
     channels : tuple of str, default=("pv",)
+    unit : {"span", "noise"}, default="span"
+        What ``step`` is measured in (noise units reproduce how often values revisit a
+        level on loops whose noise differs).
 
     Examples
     --------
@@ -243,15 +272,16 @@ class SpanQuantization(_Recording):
     12
     """
 
-    def __init__(self, step, channels=("pv",)):
-        self.step = _check_share(step, "step")
+    def __init__(self, step, channels=("pv",), unit="span"):
+        self.unit = _check_unit(unit)
+        self.step = _check_share(step, "step", upper=1.0 if unit == "span" else 100.0)
         self.channels = _check_channels(channels)
 
     def record(self, signals, ts, rng):
         out = dict(signals)
         for c in self._present(signals):
             x = np.asarray(signals[c], dtype=float)
-            q = self.step * _span(x)
+            q = self.step * _unit(x, self.unit)
             out[c] = np.round(x / q) * q if q > 0 else x
         return out
 
