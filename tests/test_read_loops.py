@@ -518,3 +518,17 @@ def test_units_in_column_names(tmp_path):
     assert row["reason"] == "time in ms (from the column name)"
     g = write(tmp_path / "g.csv", "t_min,PV,OP\n0,1,2\n1,3,4\n2,5,6\n")
     assert read_loop_file(g).meta.loc[0, "ts"] == 60
+
+
+def test_historian_with_two_tags(tmp_path):
+    # One PROCESSDATA export holding two controllers: one loop per tag.
+    text = historian_text()
+    lines = text.split("\r\n")
+    lines[2] += "\tLIC7.MV\tLIC7.PV\tLIC7.SV"
+    for i in range(5, 9):
+        lines[i] += f"\t{i}\t{10 + i}\t15"
+    data = read_loop_file(write(tmp_path / "two.txt", "\r\n".join(lines)))
+    assert data.meta["tag"].tolist() == ["2111FIC10201", "LIC7"]
+    assert data.meta["loop_type"].tolist() == ["flow", "level"]
+    np.testing.assert_allclose(data.X[1], [[10 + i, i, 15] for i in range(5, 9)])
+    np.testing.assert_allclose(data.X[0, :, 0], [48.1, 48.2, 48.3, 48.4])
