@@ -6,9 +6,17 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit
+from scipy.fft import irfft
 
-from ._oscillation import detect_oscillations
-from ._signal import dominant_period, moving_average, noise_std, remove_mean, schmitt_crossings
+from ._oscillation import _components, _power_spectrum
+from ._signal import (
+    dominant_period,
+    first_lobe,
+    moving_average,
+    noise_std,
+    remove_mean,
+    schmitt_crossings,
+)
 
 #: Thornhill et al. (2003): an oscillation is regular when the mean interval between
 #: alternate zero crossings exceeds three times its standard deviation (r > 1).
@@ -152,8 +160,9 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
                    threshold=0.5):
     """Detect and time-localise the oscillation of one signal, cycle by cycle.
 
-    Detection: :func:`~sktiction.cycles.detect_oscillations` splits the signal into
-    components around its spectral peaks and scores each from its band-limited
+    Detection: :func:`~sktiction.cycles.detect_oscillations` (default parameters)
+    splits the signal into components around its spectral peaks and scores each from
+    its band-limited
     autocorrelation (Thornhill, Huang & Zhang, 2003); the signal oscillates when a
     component's index exceeds ``threshold``. This finds irregular and noise-driven
     cycles, two oscillations at once, cycles under drift, short periods and records
@@ -204,8 +213,17 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     (True, array([100.]))
     """
     x = np.asarray(x, dtype=float)
-    p0, strength = dominant_period(x)
-    components = detect_oscillations(x, threshold=threshold)
+    components, p0, strength = [], np.nan, 0.0
+    if x.size >= 20 and np.ptp(x) > 0:  # one spectrum for both the ACF and the components
+        power, m, filled = _power_spectrum(x)
+        if filled:  # the dominant period is read from the signal as recorded
+            p0, strength = dominant_period(x)
+        else:
+            acf = irfft(power, m)[: x.size // 2 + 1]
+            p0, strength = first_lobe(acf / acf[0]) if acf[0] > 0 else (np.nan, 0.0)
+        components = _components(power, m, x.size, 3, 5.0, 3.5, 0.5, threshold)
+    elif x.size > 2:
+        p0, strength = dominant_period(x)
     found = [c for c in components if c.index > threshold]
     if found:
         main = max(found, key=lambda c: c.share)

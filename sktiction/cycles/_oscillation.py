@@ -54,7 +54,7 @@ def _fill_repeats(x):
 def _smooth_constant_q(p, q):
     """Moving average of ``p`` over +-q*k bins around bin k (at least one each side)."""
     k = np.arange(p.size)
-    h = np.maximum(1, np.round(q * k)).astype(int)
+    h = np.maximum(1, (q * k + 0.5).astype(int))
     c = np.concatenate([[0.0], np.cumsum(p)])
     lo = np.clip(k - h, 0, p.size)
     hi = np.clip(k + h + 1, 0, p.size)
@@ -154,33 +154,48 @@ def detect_oscillations(
     True
     """
     x = np.asarray(x, dtype=float)
-    n = x.size
-    if n < 4 * min_period or not np.all(np.isfinite(x)) or np.ptp(x) == 0:
+    if x.size < 4 * min_period or not np.all(np.isfinite(x)) or np.ptp(x) == 0:
         return []
-    x = _fill_repeats(x)
+    power, m, _ = _power_spectrum(x)
+    return _components(power, m, x.size, max_components, min_period, min_cycles, bandwidth,
+                       threshold)
+
+
+def _power_spectrum(x):
+    """Periodogram of the signal (historian repeats filled in, straight line removed),
+    zero-padded to ``m >= 2 n`` so that its inverse FFT is the linear ACF; also whether
+    repeats were filled in."""
+    n = x.size
+    filled = _fill_repeats(x)
     t = np.arange(n) - (n - 1) / 2.0
-    x = x - x.mean() - t * (t @ x) / (t @ t)  # straight-line detrend
+    y = filled - filled.mean() - t * (t @ filled) / (t @ t)  # straight-line detrend
     m = next_fast_len(2 * n, real=True)
-    spec = rfft(x, m)
-    power = spec.real**2 + spec.imag**2
-    smooth = _smooth_constant_q(power, 0.04)
+    spec = rfft(y, m)
+    return spec.real**2 + spec.imag**2, m, filled is not x
+
+
+def _components(power, m, n, max_components, min_period, min_cycles, bandwidth, threshold):
+    """The body of :func:`detect_oscillations`, from the padded periodogram."""
     k_lo = max(int(np.ceil(min_cycles / n * m)), 2)
     k_hi = min(int(np.floor(m / min_period)), power.size - 2)
     if k_hi <= k_lo + 2:
         return []
-    chosen = _candidates(smooth, k_lo, k_hi, 2 * max_components)
+    smooth = _smooth_constant_q(power[: k_hi + 2], 0.04)
+    chosen = _candidates(smooth, k_lo, k_hi, max_components + 1)
     total = power[k_lo:].sum()
     k_min = LOWEST_BACKGROUND * m / n
-    prominence = np.array([smooth[k] / _background(power, k, k_min) for k in chosen])
+    floor = max(power.max() * 1e-30, 1e-300)  # exact zeros (quantised records) stay finite
+    log_cum = np.concatenate([[0.0], np.cumsum(np.log(np.maximum(power, floor)))])
+    prominence = np.array([smooth[k] / _background(log_cum, k, k_min) for k in chosen])
     penalty = FEW_CYCLES_PENALTY / np.sqrt(n * np.asarray(chosen) / m)
-    # the ACF (the costly part) only for the few most prominent peaks: the others
-    # keep the index that a coherence of 0 gives them
+    # the ACF (the costly part) only for the few most prominent peaks that could reach
+    # the threshold with full coherence: the others keep the index coherence 0 gives
     evidence = np.log10(np.maximum(prominence, 1e-12)) - penalty
     out = []
     for rank, i in enumerate(np.argsort(-evidence)):
         k = chosen[i]
         found = None
-        if rank <= max_components and evidence[i] + 1.0 >= SCORE_THRESHOLD - 2 * SCORE_SCALE:
+        if rank <= max_components and evidence[i] + 1.0 >= SCORE_THRESHOLD:
             found = _band_acf(power, k, m, n, bandwidth)
             if found is None:  # no cycle there: the ACF follows another component
                 continue
@@ -205,8 +220,8 @@ def _candidates(smooth, k_lo, k_hi, count):
         peaks = np.flatnonzero(
             (spectrum[1:-1] >= spectrum[:-2]) & (spectrum[1:-1] > spectrum[2:])
         ) + 1
-        if peaks.size > 8 * count:  # the rest cannot make it
-            peaks = peaks[np.argpartition(spectrum[peaks], -8 * count)[-8 * count :]]
+        if peaks.size > 4 * count:  # the rest cannot make it
+            peaks = peaks[np.argpartition(spectrum[peaks], -4 * count)[-4 * count :]]
         mine = []
         for p in peaks[np.argsort(spectrum[peaks])[::-1]]:
             if all(abs(np.log(k[p] / j)) > 0.15 for j in mine):
@@ -220,16 +235,17 @@ def _candidates(smooth, k_lo, k_hi, count):
 def _band_acf(power, k, m, n, bandwidth):
     """Period, regularity, coherence and power of the component around bin ``k``.
 
-    The ACF is the inverse FFT of the band-weighted power. The band holds almost no
-    power above 8 times its centre (weight below 1e-7), so only bins up to there are
-    transformed: the ACF comes out on a coarser lag grid (16 points per period), and
-    a slow component costs little.
+    The ACF is the inverse FFT of the band-weighted power. The band weighs less than
+    1e-3 beyond a factor exp(1.3 bandwidth) of its centre's frequency, so only bins
+    within a factor 4 of it are weighted and only bins up to 4 times it transformed:
+    the ACF comes out on a coarser lag grid (8 points per period), and a slow
+    component costs little.
     """
-    top = min(power.size - 1, int(np.ceil(8 * k)))
-    f_rel = np.arange(1, top + 1) / k
-    band = np.zeros(top + 1)
-    band[1:] = np.exp(-((np.log(f_rel) / bandwidth) ** 2))
-    bp = power[: top + 1] * band
+    top = min(power.size - 1, int(np.ceil(4 * k)))
+    low = max(1, int(k / 4))
+    bp = np.zeros(top + 1)
+    bins = np.arange(low, top + 1)
+    bp[low:] = power[low : top + 1] * np.exp(-((np.log(bins / k) / bandwidth) ** 2))
     step = m / (2.0 * top)  # original samples per lag of the coarse ACF
     acf = irfft(bp, 2 * top)
     if acf[0] <= 0:
@@ -273,15 +289,18 @@ def _harmonic(o, stronger, threshold):
     return abs(ratio - round(ratio)) < 0.05 * ratio
 
 
-def _background(power, k, k_min):
-    """Spectrum background at bin ``k``: geometric mean of the periodogram medians over
-    bins [k/3, k/1.7] and [1.7 k, 3 k] (one side when the other leaves the range
-    [k_min, end]), scaled from the median to the mean of an exponential variable."""
+def _background(log_cum, k, k_min):
+    """Spectrum background at bin ``k``: geometric mean of the periodogram over bins
+    [k/3, k/1.7] and [1.7 k, 3 k] (one side when the other leaves the range
+    [k_min, end]), from the running sum ``log_cum`` of its logarithm. The log of an
+    exponential variable averages ln(mean) - Euler's gamma, hence the correction; the
+    log keeps a peak in a side band from raising the background much."""
     sides = []
     for a, b in ((k / 3.0, k / 1.7), (1.7 * k, 3.0 * k)):
         a, b = int(np.ceil(a)), int(np.floor(b)) + 1
-        if a >= k_min and b <= power.size and b - a >= 3:
-            sides.append(np.median(power[a:b]) / np.log(2))
+        if a >= k_min and b < log_cum.size and b - a >= 3:
+            sides.append((log_cum[b] - log_cum[a]) / (b - a))
     if not sides:
-        return np.median(power[int(np.ceil(k_min)) :]) / np.log(2)
-    return float(np.exp(np.mean(np.log(np.maximum(sides, 1e-300)))))
+        a = int(np.ceil(k_min))
+        sides.append((log_cum[-1] - log_cum[a]) / (log_cum.size - 1 - a))
+    return float(np.exp(np.mean(sides) + np.euler_gamma))

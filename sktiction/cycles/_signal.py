@@ -57,7 +57,12 @@ def dominant_period(x):
     n = x.size
     t = np.arange(n)
     x = x - np.polyval(np.polyfit(t, x, 1), t)
-    r = autocorrelation(x, n // 2)
+    return first_lobe(autocorrelation(x, n // 2))
+
+
+def first_lobe(r):
+    """Lag and height of the highest ACF value in the first positive lobe after the
+    first zero crossing of the ACF ``r`` (``(nan, 0.0)`` when there is none)."""
     neg = np.flatnonzero(r < 0)
     if neg.size == 0:
         return np.nan, 0.0
