@@ -162,11 +162,10 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
 
     Detection: :func:`~sktiction.cycles.detect_oscillations` (default parameters)
     splits the signal into components around its spectral peaks and scores each from
-    its band-limited
-    autocorrelation (Thornhill, Huang & Zhang, 2003); the signal oscillates when a
-    component's index exceeds ``threshold``. This finds irregular and noise-driven
-    cycles, two oscillations at once, cycles under drift, short periods and records
-    of a few slow cycles, and it reads through historian repeats.
+    its band-limited autocorrelation (Thornhill, Huang & Zhang, 2003); the signal
+    oscillates when a component's index exceeds ``threshold``. This finds irregular
+    and noise-driven cycles, two oscillations at once, cycles under drift, short
+    periods and records of a few slow cycles, and it reads through historian repeats.
 
     Localisation: (1) dominant period from the autocorrelation of the detrended
     signal, or the period of the strongest detected component when it disagrees
