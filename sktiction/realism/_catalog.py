@@ -13,9 +13,11 @@ column (the skeptic's list), the simulator effect that produces it and how
   :func:`sktiction.datasets.make_loops` (``None`` when the catalog has none to offer).
 
 The thresholds of ``present`` come from what the statistics mean, not from any data set:
-a hold or a compression must freeze at least 2 % of the samples, quantisation must make most
-changes revisit a level, an averaging dip must reach -0.3 of the -0.5 a trailing mean gives
-and stand between two positive lobes as a trailing mean's does,
+a hold or a compression must freeze at least 2 % of the samples, quantisation must make 5 %
+of the changes revisit a level (continuous values never do), an averaging dip must reach -0.3 of
+the -0.5 a trailing mean gives and stand between two positive lobes as a trailing mean's does
+(in PV and OP at the same lag, or in PV alone when no rows are held, since held rows leave
+few fresh differences and chance minima),
 a recorded drift must exceed 1.5 times the range of the detrended error (integral action
 removes slow loads from the error).
 """
@@ -33,9 +35,9 @@ __all__ = ["RealismEffect", "EFFECTS", "effect_names"]
 
 _HOLD_MIN = 0.02
 _FREEZE_MIN = 0.02
-_REUSE_MIN = 0.5
+_REUSE_MIN = 0.05
 _AVERAGING_DIP = -0.3
-_AVERAGING_CONTRAST = -0.6
+_AVERAGING_CONTRAST = -0.5
 _DRIFT_MIN = 1.5
 _OSCILLATING_ACF = 0.3
 _CASCADE_SHARE = 0.2
@@ -204,13 +206,25 @@ _ENTRIES = [
         "interval_averaging",
         "diff_acf_min",
         "recording",
-        "IntervalAveraging(window): trailing mean over window samples (PV and OP)",
+        "IntervalAveraging(window): trailing mean over window samples (PV and OP, or PV "
+        "alone)",
         "white and AR(1) noise leave the third-difference ACF above -0.1 beyond lag 1; a PV "
         "filter (first order) does not dip; a moving average does, at its window.",
         present=lambda s: (_col(s, "diff_acf_min") < _AVERAGING_DIP)
-        & (_col(s, "averaging_contrast") < _AVERAGING_CONTRAST),
-        params=lambda s: _frame(window=_col(s, "averaging_lag")),
-        make=lambda window: historian.IntervalAveraging(int(max(2, round(window)))),
+        & (
+            (_col(s, "averaging_contrast") < _AVERAGING_CONTRAST)
+            | (
+                (_col(s, "pv_averaging_contrast") < _AVERAGING_CONTRAST)
+                & (np.nan_to_num(_col(s, "hold_fraction")) < _HOLD_MIN)
+            )
+        ),
+        params=lambda s: _frame(
+            window=_col(s, "averaging_lag"),
+            pv_only=(~(_col(s, "averaging_contrast") < _AVERAGING_CONTRAST)).astype(float),
+        ),
+        make=lambda window, pv_only=0.0: historian.IntervalAveraging(
+            int(max(2, round(window))), channels=("pv",) if pv_only else ("pv", "op")
+        ),
     ),
     RealismEffect(
         "quantisation",

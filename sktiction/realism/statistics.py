@@ -45,6 +45,7 @@ STATISTIC_COLUMNS = (
     "diff_acf_min",
     "averaging_lag",
     "averaging_contrast",
+    "pv_averaging_contrast",
     "pv_repeat_fraction",
     "op_repeat_fraction",
     "row_repeat_fraction",
@@ -350,7 +351,7 @@ def _one_loop(x, ts):
 
     colour, dip, lag, contrast = _noise_shape(pv, same_pv)
     row.update(noise_colour=colour, diff_acf_min=dip, averaging_lag=lag)
-    row["averaging_contrast"] = contrast
+    row["averaging_contrast"] = row["pv_averaging_contrast"] = contrast
     row.update(pv_repeat_fraction=pv_rep, pv_level_reuse=pv_reuse)
     row["pv_band"] = _band(pv, same_pv, pv_span)
     pv_q = _min_change(pv)
@@ -454,6 +455,7 @@ def loop_statistics(X, ts=None):
           -0.8 for a trailing mean, whose dip sits between two positive lobes; near 0 to -0.25
           for a chance minimum); with OP, the weaker of PV's and OP's, and 0 unless both dip
           at the same lag (a historian averages every tag over the same interval).
+          ``pv_averaging_contrast``: PV's alone (a PV filter or PV-only averaging).
         - ``pv_repeat_fraction``, ``op_repeat_fraction``: share of samples equal to the one
           before; ``row_repeat_fraction``: PV and OP both repeated.
         - ``hold_run_length``: mean length of the runs where PV and OP both repeat.
