@@ -10,6 +10,10 @@ Loops are simulated sticky flow-like loops (FOPTD, relay valve, AMIGO PI, noise)
 with 25 to 125 samples per cycle, so 40 to 200 cycles are analysed per loop.
 All figures come from this one run; the machine is shared, so compare ratios.
 
+The valve-model fit (``StictionModelFit``) is timed against the least-squares grid
+it replaced (one ``lstsq`` of the ARX design per band), with the largest difference
+in gain and the share of loops where the two pick the same band.
+
 Run: NUMBA_NUM_THREADS=1 python benchmarks/bench_features.py
 """
 
@@ -19,7 +23,9 @@ import numpy as np
 from tslearn.metrics import cdist_dtw
 
 from sktiction import AreaRatio, TemplateDistances, pretrained_classifier
+from sktiction._validation import loop_lengths
 from sktiction.datasets import make_loops
+from sktiction.features.stiction_model import _play, _sse, fit_stiction_band
 from sktiction.features.templates import SHAPES, cycle_templates, resample
 from sktiction.reports import scan_loops
 
@@ -54,7 +60,46 @@ def tslearn_cells(td, X):
     return cells
 
 
+def lstsq_grid(pv, op, n_lags=8):
+    """The valve-model fit as it was: one least-squares fit of the design per band."""
+    n_lags = int(min(n_lags, max(2, pv.size // 20)))
+    span = float(np.ptp(op))
+    fracs = np.geomspace(0.002, 0.6, 24)
+    base = _sse(pv, op, n_lags)
+    sses = np.array([_sse(pv, _play(op, f * span), n_lags) for f in fracs])
+    best = int(np.argmin(sses))
+    if sses[best] >= base:
+        return 0.0, 0.0
+    return 1.0 - sses[best] / base, fracs[best] * span
+
+
+def valve_model_fit(n_loops=60, n_samples=8640):
+    """Speed and agreement of the normal-equation grid against the least-squares grid."""
+    X, _ = make_loops(n_loops, n_samples=n_samples, slip_fraction=0.25, random_state=5)
+    n = loop_lengths(X)
+    pairs = [(X[i, : n[i], 0], X[i, : n[i], 1]) for i in range(n_loops)]
+    fit_stiction_band(*pairs[0])  # compile
+    new, old, gain_diff, same_band = [], [], [], []
+    for pv, op in pairs:
+        t0 = time.perf_counter()
+        g_new, b_new = fit_stiction_band(pv, op)
+        t1 = time.perf_counter()
+        g_old, b_old = lstsq_grid(pv, op)
+        t2 = time.perf_counter()
+        new.append(t1 - t0)
+        old.append(t2 - t1)
+        gain_diff.append(abs(g_new - g_old))
+        same_band.append(np.isclose(b_new, b_old))
+    ratio = np.array(old) / np.array(new)
+    print(f"StictionModelFit on {n_loops} loops of up to {n_samples} samples: "
+          f"{1e3 * np.median(new):.1f} ms per loop median (least-squares grid "
+          f"{1e3 * np.median(old):.1f} ms): {np.median(ratio):.1f}x faster "
+          f"(min {ratio.min():.1f}x, max {ratio.max():.1f}x); largest gain difference "
+          f"{max(gain_diff):.1e}, same band in {100 * np.mean(same_band):.0f} % of loops")
+
+
 def main():
+    valve_model_fit()
     X, _ = make_loops(
         12, n_samples=N_SAMPLES, stiction_fraction=1.0, orders=(1,), period_range=(25, 125),
         stiction_models=("relay",), random_state=0,
