@@ -10,6 +10,11 @@ Writes a figure of the largest differences of the default world.
 Usage::
 
     python benchmarks/realism_gap.py [--n-simulated 300] [--figure realism_gap.png]
+    python benchmarks/realism_gap.py --hidden 120   # hidden-effect rates, no measured data
+
+``--hidden N`` repeats the design of ``tests/test_realism.py`` over N draws per check (a
+recording effect hidden in 20 classic-world loops compared with 20 others; pairs; nothing
+hidden) in the classic and the default world, and prints the rates.
 
 Loops are simulated with 751 samples, the plant windows' length (the ISDB loops are longer;
 record length is reported in the table and left out of the domain AUC). No threshold of the
@@ -47,12 +52,70 @@ def _show(title, table):
         print(table[COLUMNS].round(3).to_string(index=False))
 
 
+def _draw(name, rng):
+    from sktiction.simulation import historian
+
+    def loguniform(lo, hi):
+        return float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+
+    return {
+        "hold_last_value": lambda: historian.HoldLastValue(
+            rng.uniform(0.1, 0.5), rng.uniform(2.0, 10.0)),
+        "deadband_compression": lambda: historian.DeadbandCompression(loguniform(0.01, 0.1)),
+        "interval_averaging": lambda: historian.IntervalAveraging(int(rng.integers(2, 11))),
+        "quantisation": lambda: historian.SpanQuantization(loguniform(0.01, 0.1)),
+        "spikes": lambda: historian.Spikes(loguniform(0.002, 0.02), rng.uniform(0.5, 2.0)),
+        "drift": lambda: historian.SensorDrift(rng.uniform(1.0, 3.0)),
+    }[name]()  # fmt: skip
+
+
+def hidden_rates(n_draws, world, n_loops=20, n_samples=500):
+    """Rates of the hidden-effect checks of tests/test_realism.py over more draws."""
+    import itertools
+
+    from sktiction.realism import apply_effects, effect_names
+
+    names = effect_names("recording")
+    X, _ = make_loops(2 * n_draws * n_loops, n_samples, world=world, random_state=7)
+    stats = loop_statistics(X)
+
+    def sets(k):
+        a = slice(2 * k * n_loops, (2 * k + 1) * n_loops)
+        b = slice((2 * k + 1) * n_loops, (2 * k + 2) * n_loops)
+        return stats.iloc[a].reset_index(drop=True), X[b]
+
+    first, top3, clean = [], [], []
+    pairs = list(itertools.combinations(names, 2))
+    for k in range(n_draws):
+        rng = np.random.default_rng(k)
+        sim, meas = sets(k)
+        name = names[k % len(names)]
+        table = compare(sim, apply_effects(meas, [_draw(name, rng)], random_state=rng),
+                        domain=False)  # fmt: skip
+        first.append(table.loc[0, "effect"] == name and bool(table.loc[0, "significant"]))
+        a, b = pairs[k % len(pairs)]
+        table = compare(sim, apply_effects(meas, [_draw(a, rng), _draw(b, rng)],
+                                           random_state=rng), domain=False)  # fmt: skip
+        top3.append({a, b} <= set(table["effect"][:3]))
+        clean.append(not compare(sim, meas, domain=False)["significant"].any())
+    print(f"{world} world, {n_draws} draws, {n_loops} vs {n_loops} loops of {n_samples} samples:")
+    print(f"  hidden effect ranked first and significant: {np.mean(first):.3f}")
+    print(f"  both effects of a pair in the top 3 (all 15 pairs): {np.mean(top3):.3f}")
+    print(f"  nothing hidden, no significant row: {np.mean(clean):.3f}")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-simulated", type=int, default=300)
     parser.add_argument("--figure", default="realism_gap.png")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--hidden", type=int, default=0,
+                        help="only the hidden-effect rates, over this many draws")
     args = parser.parse_args(argv)
+    if args.hidden:
+        for world in ("classic", "default"):
+            hidden_rates(args.hidden, world)
+        return 0
 
     data = load_measured()
     if data is None:
