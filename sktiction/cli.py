@@ -155,15 +155,15 @@ def _read_all(paths, ts, channels):
 
 def _read_status(report):
     """Per-row reader status: ``ok`` or why the file or loop could not be read."""
+    read = pd.Series("", index=report.index)
     for col in ("input_status", "read_status"):
         if col in report:
-            return report[col].fillna("ok").astype(str)
-    if "status" in report:
-        # scan_files rows: reader failures carry the reader's status
-        return report["status"].fillna("ok").astype(str).where(
-            ~report["status"].isin(["ok", "no_verdict"]), "ok"
-        )
-    return pd.Series("ok", index=report.index)
+            read = report[col].fillna("").astype(str)
+            break
+    if "status" in report:  # scan_files: files it could not read or that hold no loop
+        unreadable = report["status"].astype(str).eq("unreadable")
+        read = read.where(~(unreadable & read.isin(["", "ok"])), "unreadable")
+    return read.where(read != "", "ok")
 
 
 def _console_table(report):
@@ -193,52 +193,116 @@ def _print_table(table, file=None):
         print(table.to_string(index=False), file=file)
 
 
+def _unreadable_table(listing, channels, ts):
+    """Read files until one holds a loop: (True, None), or (False, table of every reason)."""
+    from .datasets import read_loop_file
+
+    rows = []
+    for row in listing.itertuples():
+        if not row.supported:
+            rows.append({"file": Path(row.path).name, "tag": "", "status": "unsupported",
+                         "reason": row.reason})
+            continue
+        meta = read_loop_file(row.path, channels=channels, ts=ts).meta
+        if meta["status"].astype(str).eq("ok").any():
+            return True, None
+        rows.extend(meta.reindex(columns=["file", "tag", "status", "reason"]).to_dict("records"))
+    return False, pd.DataFrame(rows).fillna("")
+
+
+class _FileLoops:
+    """Loop ``i`` of a streamed report, read again from its file (one file kept at a time),
+    with its gaps bridged as the scan bridged them; for the HTML report's figures."""
+
+    def __init__(self, report, channels, ts):
+        self.paths = report["path"].astype(str).to_numpy() if "path" in report else None
+        self.ok = report["status"].astype(str).ne("unreadable").to_numpy()
+        self.channels, self.ts = channels, ts
+        self._path, self._X = None, None
+
+    def __call__(self, i):
+        if self.paths is None or not self.ok[i]:
+            return None
+        from .datasets import read_loop_file
+
+        path = self.paths[i]
+        if path != self._path:
+            self._path = path
+            self._X = read_loop_file(path, channels=self.channels, ts=self.ts).X
+        k = int(np.sum(self.paths[:i] == path))  # rows of one file are its loops in order
+        if k >= len(self._X):
+            return None
+        one = self._X[k : k + 1]
+        try:
+            from ._validation import repair_gaps
+
+            one = repair_gaps(one)[0]
+        except ImportError:
+            pass
+        return one[0]
+
+
 def _scan(args):
     channels = _parse_channels(args.channels)
     fmt = _output_format(args)
     missing = [p for p in args.paths if not Path(p).exists()]
     if missing:
         raise UsageError("no such file or folder: " + ", ".join(missing))
+    from . import datasets, reports
+
+    streaming = hasattr(reports, "scan_files") and hasattr(datasets, "read_loop_file")
     listing = _list_files(args.paths)
     if not listing["supported"].any():
-        _print_table(listing.assign(file=listing["path"])[["file", "reason"]])
+        _print_table(listing.assign(file=listing["path"])[["file", "reason"]], file=sys.stderr)
         raise UsageError(f"no loop file found under {', '.join(args.paths)} (listed above).")
     client = None
-    if args.scheduler:
-        from . import reports
+    if args.scheduler and not streaming:
+        raise UsageError("--scheduler needs sktiction.reports.scan_files (not available "
+                         "in this version); drop --scheduler or use --n-jobs.")
 
-        if not hasattr(reports, "scan_files"):
-            raise UsageError("--scheduler needs sktiction.reports.scan_files (not available "
-                             "in this version); drop --scheduler or use --n-jobs.")
+    # Nothing readable means no model is trained or loaded at all.
+    X = None
+    if streaming:
+        readable, failures = _unreadable_table(listing, channels, args.ts)
+    else:
+        X, meta, _ = _read_all(args.paths, args.ts, channels)
+        readable = meta["status"].astype(str).eq("ok").any()
+        failures = meta.reindex(columns=["file", "tag", "status", "reason"]).fillna("")
+    if not readable:
+        _print_table(failures, file=sys.stderr)
+        raise UsageError("no file could be read (reasons above).")
+    if args.scheduler:
         try:
             from dask.distributed import Client
         except ImportError as exc:
             raise UsageError("--scheduler needs dask.distributed: pip install "
                              "'dask[distributed]'.") from exc
-        client = Client(args.scheduler)
-
-    # Read everything first: nothing readable means no model is trained at all.
-    X, meta, _ = _read_all(args.paths, args.ts, channels)
-    readable = meta["status"].astype(str).eq("ok").to_numpy()
-    if not readable.any():
-        table = meta.reindex(columns=["file", "tag", "status", "reason"]).fillna("")
-        _print_table(table, file=sys.stderr)
-        raise UsageError("no file could be read (reasons above).")
-
-    from .reports import scan_loops
+        try:
+            client = Client(args.scheduler, timeout=30)
+        except (OSError, TimeoutError) as exc:
+            raise UsageError(f"--scheduler: cannot reach {args.scheduler} ({exc}).") from exc
 
     classifier = _classifier()
-    report = scan_loops(X, meta, classifier=classifier, n_jobs=args.n_jobs,
-                        progress=not args.quiet)
-    if client is not None:
-        client.close()
+    try:
+        if streaming:
+            report = reports.scan_files(
+                args.paths, channels=channels, classifier=classifier, n_jobs=args.n_jobs,
+                client=client, progress=not args.quiet, ts=args.ts,
+            )
+        else:
+            report = reports.scan_loops(X, meta, classifier=classifier, n_jobs=args.n_jobs,
+                                        progress=not args.quiet)
+    finally:
+        if client is not None:
+            client.close()
     if args.output:
         _write_table(report, args.output, fmt)
         print(f"wrote {len(report)} rows to {args.output} ({fmt})", file=sys.stderr)
     if args.report:
         from .reports.html import write_html_report
 
-        write_html_report(report, X, path=args.report, title="sktiction scan")
+        loops = _FileLoops(report, channels, args.ts) if streaming else X
+        write_html_report(report, loops, path=args.report, title="sktiction scan")
         print(f"wrote the HTML report to {args.report}", file=sys.stderr)
     table = _console_table(report)
     _print_table(table)

@@ -109,6 +109,19 @@ def _label(report, i):
     return f"loop {i}"
 
 
+def _loop_getter(X, n):
+    """``i -> loop i as (1, n_samples, 3)`` (or None) from an array or a callable."""
+    if X is None:
+        return None
+    if callable(X):
+        return lambda i: None if (one := X(i)) is None else check_loops(np.asarray(one)[None])
+    loops = check_loops(X)
+    if len(loops) != n:
+        raise ValueError(f"X has {len(loops)} loops but the report has {n} rows; "
+                         "they must match.")
+    return lambda i: loops[i : i + 1]
+
+
 def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
                       title="sktiction report", max_figures=200, dpi=72):
     """Write a scan report as ONE self-contained HTML file people would rather read.
@@ -125,8 +138,10 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
     report : pandas.DataFrame
         One row per loop, e.g. from :func:`~sktiction.reports.scan_loops`; columns
         it lacks are left out of the table (``file`` and ``tag`` name the rows).
-    X : array-like of shape (n_loops, n_samples, n_channels) or None, default=None
-        The loops of the report, in its order, for the figures; ``None`` writes the
+    X : array-like of shape (n_loops, n_samples, n_channels), callable or None, default=None
+        The loops of the report, in its order, for the figures; or a function
+        ``X(i)`` returning loop ``i`` as ``(n_samples, 3)`` (or None), so that a
+        streamed scan can read its files again one at a time; ``None`` writes the
         table only.
     path : str or Path, default="sktiction_report.html"
         Where to write.
@@ -164,12 +179,7 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
 
     report = report.reset_index(drop=True)
     n = len(report)
-    loops = None
-    if X is not None:
-        loops = check_loops(X)
-        if len(loops) != n:
-            raise ValueError(f"X has {len(loops)} loops but the report has {n} rows; "
-                             "they must match.")
+    loop_of = _loop_getter(X, n)
     if ts is None:
         for col in ("ts", "input_ts"):
             if col in report:
@@ -181,21 +191,22 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
     # Figures first: their cycle tables also give each loop's period when the report has none.
     figures = {}
     periods = np.full(n, np.nan)
-    if loops is not None:
+    if loop_of is not None:
         from .plots import loop_cycles, plot_loop_summary
 
         verdict = report["verdict"] if "verdict" in report else pd.Series("", index=report.index)
         order = np.argsort(~verdict.eq("stiction").to_numpy(), kind="stable")[:max_figures]
         with matplotlib.rc_context({"font.size": 8}):
-            for i in order:
-                if np.isnan(loops[i, :, 0]).all():
-                    figures[i] = None
-                    continue
+            for i in sorted(order):
                 try:
-                    cycles = loop_cycles(loops, loop=i)
+                    one = loop_of(i)
+                    if one is None or np.isnan(one[0, :, 0]).all():
+                        figures[i] = None
+                        continue
+                    cycles = loop_cycles(one)
                     if len(cycles) and "period" in cycles:
                         periods[i] = float(np.median(cycles["period"])) * ts[i]
-                    fig = plot_loop_summary(loops, loop=i, ts=ts[i], cycles=cycles,
+                    fig = plot_loop_summary(one, ts=ts[i], cycles=cycles,
                                             title=_label(report, i))
                     figures[i] = _figure_png(fig, dpi)
                 except Exception as exc:  # noqa: BLE001 - a figure must not stop the report

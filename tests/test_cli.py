@@ -1,0 +1,155 @@
+"""The command line: exit codes, the console table, outputs and the HTML report."""
+
+import json
+import shutil
+import subprocess
+import sys
+from importlib import resources
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sktiction import cli
+
+PLANT = resources.files("sktiction.datasets") / "data" / "plant"
+
+
+@pytest.fixture(scope="module")
+def tiny_classifier():
+    from sktiction import pretrained_classifier
+
+    return pretrained_classifier(random_state=0, n_loops=60, n_samples=800)
+
+
+@pytest.fixture
+def no_training(monkeypatch):
+    """Fail the test if the CLI gets as far as the model."""
+
+    def boom():
+        raise AssertionError("the model was trained or loaded")
+
+    monkeypatch.setattr(cli, "_classifier", boom)
+
+
+@pytest.fixture
+def quick(monkeypatch, tiny_classifier):
+    monkeypatch.setattr(cli, "_classifier", lambda: tiny_classifier)
+
+
+@pytest.fixture
+def folder(tmp_path):
+    """Two real plant windows and one CSV without a PV column."""
+    for name in sorted(p.name for p in PLANT.iterdir() if p.name.startswith("stic_"))[:2]:
+        shutil.copy(PLANT / name, tmp_path / name)
+    (tmp_path / "broken.csv").write_text("time,foo\n0,1\n1,2\n")
+    return tmp_path
+
+
+def test_missing_path_exits_2_at_once(no_training, tmp_path, capsys):
+    assert cli.main(["scan", str(tmp_path / "no_such_folder")]) == 2
+    assert "no such file or folder" in capsys.readouterr().err
+
+
+def test_nothing_readable_exits_2_before_training(no_training, tmp_path, capsys):
+    (tmp_path / "a.csv").write_text("foo,bar\n1,2\n")
+    (tmp_path / "b.csv").write_text("")
+    assert cli.main(["scan", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "no file could be read" in err
+    assert "a.csv" in err and "b.csv" in err  # each file named with its reason
+
+
+def test_empty_folder_exits_2(no_training, tmp_path, capsys):
+    (tmp_path / "sub").mkdir()
+    assert cli.main(["scan", str(tmp_path / "sub")]) == 2
+
+
+def test_bad_channels_is_a_usage_error(no_training, folder, capsys):
+    assert cli.main(["scan", str(folder), "--channels", "pv"]) == 2
+    assert "--channels" in capsys.readouterr().err
+    assert cli.main(["scan", str(folder), "--channels", "flow=A"]) == 2
+    assert "unknown channel 'flow'" in capsys.readouterr().err
+
+
+def test_some_files_fail_exit_1_and_the_table_says_why(quick, folder, tmp_path, capsys):
+    out = tmp_path / "out.json"
+    report = tmp_path / "report.html"
+    code = cli.main(["scan", str(folder), "-q", "-o", str(out), "--format", "json",
+                     "--report", str(report)])
+    assert code == 1
+    stdout = capsys.readouterr().out
+    lines = stdout.splitlines()
+    broken = [line for line in lines if "broken.csv" in line]
+    assert len(broken) == 1 and "no PV column" in broken[0]
+    for name in (p.name for p in folder.iterdir() if p.name.startswith("stic_")):
+        row = [line for line in lines if name in line]
+        assert len(row) == 1
+        tag = name.split("_")[1]
+        assert tag in row[0]
+    rows = json.loads(out.read_text())
+    assert len(rows) == 3
+    text = report.read_text()
+    assert text.count('src="data:image/png;base64,') == 2 and "broken.csv" in text
+
+
+def test_all_read_exits_0_and_writes_csv(quick, folder, tmp_path, capsys):
+    (folder / "broken.csv").unlink()
+    out = tmp_path / "out.csv"
+    assert cli.main(["scan", str(folder), "-q", "-o", str(out)]) == 0
+    table = pd.read_csv(out)
+    assert len(table) == 2
+    assert set(table["verdict"]) <= {"stiction", "no_stiction", "no_verdict"}
+
+
+def test_channels_option_names_the_columns(quick, tmp_path, capsys):
+    X, _ = make_loop()
+    frame = pd.DataFrame({"t": np.arange(len(X)), "flow": X[:, 0], "valve": X[:, 1],
+                          "target": X[:, 2]})
+    frame.to_csv(tmp_path / "FIC7.csv", index=False)
+    assert cli.main(["scan", str(tmp_path / "FIC7.csv"), "-q"]) == 2  # no PV column found
+    assert "no file could be read" in capsys.readouterr().err
+    code = cli.main(["scan", str(tmp_path / "FIC7.csv"), "-q", "--channels",
+                     "pv=flow,op=valve,sp=target"])
+    assert code == 0
+
+
+def make_loop():
+    from sktiction.datasets import make_loops
+
+    X, y = make_loops(1, n_samples=600, world="classic", random_state=4)
+    return X[0], y[0]
+
+
+def test_parquet_needs_pyarrow_or_works(quick, folder, tmp_path, capsys):
+    out = tmp_path / "out.parquet"
+    code = cli.main(["scan", str(folder), "-q", "-o", str(out)])
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        assert code == 2 and "pyarrow" in capsys.readouterr().err
+    else:
+        assert code == 1 and len(pd.read_parquet(out)) == 3
+
+
+def test_python_m_sktiction(tmp_path):
+    run = subprocess.run([sys.executable, "-m", "sktiction", "scan", str(tmp_path / "nope")],
+                         capture_output=True, text=True, timeout=120, check=False)
+    assert run.returncode == 2
+    assert "no such file or folder" in run.stderr
+    run = subprocess.run([sys.executable, "-m", "sktiction", "--help"], capture_output=True,
+                         text=True, timeout=120, check=False)
+    assert run.returncode == 0
+    assert "Exit codes" in run.stdout and "scan" in run.stdout and "demo" in run.stdout
+
+
+def test_scheduler_runs_the_scan_on_a_dask_cluster(quick, folder, tmp_path):
+    distributed = pytest.importorskip("dask.distributed")
+    out = tmp_path / "out.csv"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        code = cli.main(["scan", str(folder), "-q", "-o", str(out), "--scheduler",
+                         cluster.scheduler_address])
+    assert code == 1  # broken.csv
+    table = pd.read_csv(out)
+    assert len(table) == 3 and table["verdict"].notna().all()
