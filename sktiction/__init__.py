@@ -13,6 +13,7 @@ from .classifiers import (
 from .features import (
     AreaRatio,
     LoopDescriptors,
+    OscillationFeatures,
     StictionModelFit,
     TemplateDistances,
     cycle_table,
@@ -24,6 +25,7 @@ __all__ = [
     "AreaRatio",
     "AreaRatioClassifier",
     "LoopDescriptors",
+    "OscillationFeatures",
     "ShapeLibraryClassifier",
     "StictionModelFit",
     "TemplateDistances",

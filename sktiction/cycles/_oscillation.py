@@ -134,8 +134,9 @@ def detect_oscillations(
     -------
     components : list of OscillationComponent
         Strongest index first; those with ``index > threshold`` oscillate. A
-        component at a harmonic (an integer multiple of the frequency) of a stronger
-        oscillating one is left out: it is part of that cycle's shape.
+        component at the 2nd to 5th harmonic (within 2 %) of a slower oscillating one
+        that carries more power is left out: it is part of that cycle's shape (two
+        oscillations whose periods are in such a ratio are reported as one).
 
     References
     ----------
@@ -205,8 +206,9 @@ def _components(power, m, n, max_components, min_period, min_cycles, bandwidth, 
     out.sort(key=lambda o: -o.index)
     kept = []  # one component per period: a side peak's ACF follows the main cycle's
     for o in out:
-        if not any(_same(o, s) or _harmonic(o, s, threshold) for s in kept):
+        if not any(_same(o, s) for s in kept):
             kept.append(o)
+    kept = [o for o in kept if not any(_harmonic(o, s, threshold) for s in kept)]
     return kept[:max_components]
 
 
@@ -281,12 +283,14 @@ def _same(o, stronger):
     return bool(abs(np.log(o.period / stronger.period)) < 0.25)
 
 
-def _harmonic(o, stronger, threshold):
-    """Whether ``o`` sits at a harmonic of the stronger oscillating component."""
-    if stronger.index <= threshold or not o.period < stronger.period:
+def _harmonic(o, slower, threshold):
+    """Whether ``o`` is the 2nd to 5th harmonic (within 2 %) of a slower oscillating
+    component that carries more of the signal: part of that cycle's shape."""
+    if slower.index <= threshold or not o.period < slower.period or o.share > slower.share:
         return False
-    ratio = stronger.period / o.period
-    return abs(ratio - round(ratio)) < 0.05 * ratio
+    ratio = slower.period / o.period
+    k = round(ratio)
+    return 2 <= k <= 5 and abs(ratio - k) <= 0.02 * k
 
 
 def _background(log_cum, k, k_min):

@@ -5,6 +5,7 @@ from .area_ratio import AreaRatio
 from .descriptors import LoopDescriptors
 from .dtw import paired_dtw
 from .hysteresis import PVOPHysteresis
+from .oscillation import OscillationFeatures
 from .stiction_model import StictionModelFit
 from .template_distances import TemplateDistances, cycle_table
 
@@ -16,4 +17,5 @@ __all__ = [
     "cycle_table",
     "paired_dtw",
     "PVOPHysteresis",
+    "OscillationFeatures",
 ]

@@ -1,0 +1,159 @@
+"""Oscillation detection per component: known answers, failure classes, the transformer."""
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+from sklearn.utils.estimator_checks import parametrize_with_checks
+
+from sktiction import OscillationFeatures
+from sktiction.cycles import analyze_cycles, detect_oscillations
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_oscillation.py"
+
+
+def _bench():
+    spec = importlib.util.spec_from_file_location("bench_oscillation", BENCH)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_pure_sinusoid_has_index_one_and_its_period():
+    t = np.arange(3000)
+    for period in (8.0, 37.5, 250.0):
+        a = analyze_cycles(np.sin(2 * np.pi * t / period + 1.0))
+        assert a.oscillating and a.oscillation_index > 0.99
+        assert a.periods.size == 1 and a.periods[0] == pytest.approx(period, rel=0.01)
+        assert a.regularities[0] > 1  # Thornhill: regular
+
+
+def test_white_noise_has_no_oscillation():
+    hits = [analyze_cycles(np.random.default_rng(s).normal(size=2000)) for s in range(100)]
+    assert sum(a.oscillating for a in hits) <= 2
+    assert np.median([a.oscillation_index for a in hits]) < 0.1
+    assert all(a.periods.size == int(a.oscillating) for a in hits if a.periods.size <= 1)
+
+
+def test_two_sinusoids_give_two_components_with_their_periods():
+    t = np.arange(4000)
+    rng = np.random.default_rng(3)
+    x = np.sin(2 * np.pi * t / 23) + 0.8 * np.sin(2 * np.pi * t / 140) + rng.normal(0, 0.3, t.size)
+    a = analyze_cycles(x)
+    assert a.oscillating
+    assert np.sort(a.periods) == pytest.approx([23, 140], rel=0.03)
+
+
+def test_harmonics_of_a_square_wave_are_not_components():
+    t = np.arange(3000)
+    a = analyze_cycles(np.sign(np.sin(2 * np.pi * t / 90)))
+    assert a.periods == pytest.approx([90], rel=0.02)
+
+
+def test_oscillation_under_a_strong_drift_is_found():
+    rng = np.random.default_rng(0)
+    t = np.arange(3000)
+    walk = np.cumsum(rng.normal(size=t.size))
+    drift = 8 * walk / np.ptp(walk) + 0.004 * t  # drift spans 8 times the cycle's swing
+    a = analyze_cycles(np.sin(2 * np.pi * t / 60) + drift + rng.normal(0, 0.2, t.size))
+    assert a.oscillating
+    assert a.periods[0] == pytest.approx(60, rel=0.05)
+    assert len(a.cycles) >= 30  # the cycles are localised too, on the detected period
+
+
+def test_quarter_of_samples_repeated_still_found():
+    bench = _bench()
+    found = 0
+    for seed in range(20):
+        rng = np.random.default_rng(seed)
+        period = rng.uniform(20, 120)
+        t = np.arange(2000)
+        x = np.sin(2 * np.pi * t / period) + rng.normal(0, 0.2, t.size)
+        held = bench._hold(rng, x, 0.25)
+        assert 0.15 < np.mean(np.diff(held) == 0) < 0.35
+        a = analyze_cycles(held)
+        found += a.oscillating and abs(a.periods[0] - period) < 0.1 * period
+    assert found >= 19
+
+
+def test_index_is_a_probability_like_score():
+    rng = np.random.default_rng(1)
+    t = np.arange(2000)
+    indices = [
+        detect_oscillations(np.sin(2 * np.pi * t / 50) * amp + rng.normal(size=t.size))[0].index
+        for amp in (0.0, 0.1, 0.3, 1.0, 3.0)
+    ]
+    assert all(0.0 <= i <= 1.0 for i in indices)
+    assert indices[0] < 0.5 < indices[-1]
+    assert indices[-1] >= indices[-2] >= indices[-3]  # more cycle, more index
+
+
+def test_degenerate_signals_have_no_components():
+    assert detect_oscillations(np.zeros(500)) == []
+    assert detect_oscillations(np.arange(10.0)) == []
+    assert detect_oscillations(np.r_[np.ones(100), np.nan]) == []
+    assert not analyze_cycles(np.zeros(500)).oscillating
+    assert analyze_cycles(np.zeros(500)).oscillation_index == 0.0
+
+
+@pytest.mark.parametrize("kind", ["irregular", "noise_driven", "two_frequencies", "drifting",
+                                  "intermittent", "short_period", "few_slow_cycles",
+                                  "compressed"])
+def test_failure_classes_are_found(kind):
+    bench = _bench()
+    rng = np.random.default_rng([99, bench.OSCILLATING.index(kind)])
+    hits = sum(analyze_cycles(bench.make_signal(kind, rng)[0]).oscillating for _ in range(40))
+    assert hits >= 36  # goal 0.95 on the benchmark; 0.9 here for a small sample
+
+
+@pytest.mark.parametrize("kind", ["coloured_noise", "random_walk", "steps", "repeated_noise",
+                                  "drift"])
+def test_quiet_counterparts_rarely_raise_alarms(kind):
+    bench = _bench()
+    rng = np.random.default_rng([99, 100 + bench.QUIET.index(kind)])
+    hits = sum(analyze_cycles(bench.make_signal(kind, rng)[0]).oscillating for _ in range(40))
+    assert hits <= 4  # goal 0.05 on the benchmark; 0.1 here for a small sample
+
+
+def test_features_per_channel():
+    t = np.arange(2500)
+    rng = np.random.default_rng(0)
+    op = 50 + 4 * np.sin(2 * np.pi * t / 45)
+    pv = 20 + np.cumsum(rng.normal(size=t.size)) * 0.1
+    X = np.stack([pv, op, np.full(t.size, 20.0)], axis=1)[None]
+    ft = OscillationFeatures().set_output(transform="pandas").fit(X)
+    f = ft.transform(X).iloc[0]
+    assert list(ft.get_feature_names_out()) == list(f.index)
+    assert f["op_oscillating"] == 1 and f["op_n_components"] == 1
+    assert f["op_period"] == pytest.approx(45, rel=0.02) and np.isnan(f["op_period_2"])
+    assert f["op_osc_index"] > 0.99 and f["op_regularity"] > 1
+    assert f["pv_oscillating"] == 0 and np.isnan(f["pv_period"])
+    assert 0 <= f["pv_osc_index"] < 0.5
+
+
+def test_features_missing_op_and_bad_loops_are_nan():
+    t = np.arange(800)
+    good = np.stack([np.sin(t / 10.0), np.full(t.size, np.nan)], axis=1)
+    flat = np.stack([np.zeros(t.size), np.zeros(t.size)], axis=1)
+    X = np.stack([good, flat])
+    f = OscillationFeatures(signals=("pv", "op")).fit(X).transform(X)
+    n = len(f[0]) // 2
+    assert f[0, 1] == 1 and np.isnan(f[0, n:]).all()  # PV oscillates, OP absent
+    assert np.isnan(f[1]).all()  # constant loop: loop_status rejects it
+
+
+def test_bad_signals_parameter_is_refused():
+    with pytest.raises(ValueError, match="signals"):
+        OscillationFeatures(signals=("sp",)).fit(np.zeros((1, 50, 3)))
+
+
+@parametrize_with_checks(
+    [OscillationFeatures(), OscillationFeatures(signals=("pv",))],
+    expected_failed_checks=lambda e: {
+        "check_transformer_data_not_an_array": "random rows do not oscillate, so most "
+        "features are NaN, and the check compares outputs with NaN != NaN"
+    },
+)
+def test_sklearn_compatible(estimator, check):
+    check(estimator)
