@@ -276,7 +276,7 @@ _DEFAULT_DEFAULTS = {
     "recording_fraction": 0.5,
     "short_fraction": 0.25,
     "min_length": 200,
-    "warmup": None,  # max(200, n_samples // 3)
+    "warmup": None,  # max(200, n_samples // 5)
 }
 
 
@@ -758,7 +758,7 @@ def make_loops(
         Default world only: shortest record (>= 20).
     warmup : int or None, default None
         Default world only: samples simulated and dropped before the record;
-        ``None`` means ``max(200, n_samples // 3)``.
+        ``None`` means ``max(200, n_samples // 5)``.
     realism : object or None, default=None
         Default world only: a calibrated world from
         :func:`sktiction.realism.calibrate`: a mapping ``realism.overrides`` of
@@ -920,7 +920,7 @@ def _check_default_options(opt, orders, n_samples, realism):
     if not isinstance(opt["min_length"], numbers.Integral) or opt["min_length"] < 20:
         raise ValueError(f"min_length must be an integer >= 20; got {opt['min_length']!r}.")
     if opt["warmup"] is None:
-        opt["warmup"] = max(200, n_samples // 3)
+        opt["warmup"] = max(200, n_samples // 5)
     if not isinstance(opt["warmup"], numbers.Integral) or opt["warmup"] < 0:
         raise ValueError(f"warmup must be an integer >= 0; got {opt['warmup']!r}.")
     opt["warmup"] = int(opt["warmup"])
