@@ -11,6 +11,7 @@ Usage::
 
     python benchmarks/realism_gap.py [--n-simulated 300] [--figure realism_gap.png]
     python benchmarks/realism_gap.py --hidden 120   # hidden-effect rates, no measured data
+    python benchmarks/realism_gap.py --speed        # loop_statistics time per loop
 
 ``--hidden N`` repeats the design of ``tests/test_realism.py`` over N draws per check (a
 recording effect hidden in 20 classic-world loops compared with 20 others; pairs; nothing
@@ -104,6 +105,23 @@ def hidden_rates(n_draws, world, n_loops=20, n_samples=500):
     print(f"  nothing hidden, no significant row: {np.mean(clean):.3f}")
 
 
+def speed(n_loops=200, n_samples=5000):
+    """Median time of loop_statistics per loop (one run, on this machine)."""
+    import time
+
+    X, _ = make_loops(n_loops, n_samples, random_state=0)
+    loop_statistics(X[:2])
+    times = []
+    for k in range(n_loops):
+        t0 = time.perf_counter()
+        loop_statistics(X[k : k + 1])
+        times.append(time.perf_counter() - t0)
+    print(f"loop_statistics: median {1e3 * np.median(times):.2f} ms, 90 % "
+          f"{1e3 * np.percentile(times, 90):.2f} ms per {n_samples}-sample loop "
+          f"({n_loops} default-world loops)")  # fmt: skip
+    return 0
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-simulated", type=int, default=300)
@@ -111,7 +129,11 @@ def main(argv=None):
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--hidden", type=int, default=0,
                         help="only the hidden-effect rates, over this many draws")
+    parser.add_argument("--speed", action="store_true",
+                        help="only the time of loop_statistics per 5,000-sample loop")
     args = parser.parse_args(argv)
+    if args.speed:
+        return speed()
     if args.hidden:
         for world in ("classic", "default"):
             hidden_rates(args.hidden, world)

@@ -19,6 +19,8 @@ __all__ = ["loop_statistics", "STATISTIC_COLUMNS"]
 _MAD_TO_SD = 1.4826 / np.sqrt(6.0)
 # Lags of the difference ACF searched for the dip that interval averaging leaves.
 _AVERAGING_LAGS = (2, 12)
+# Below this many lags an ACF is cheaper as dot products than through the FFT.
+_DIRECT_LAGS = 40
 # Fewest pairs of fresh differences for an ACF value (its sd is about 1 / sqrt(pairs)).
 _MIN_PAIRS = 30
 # A spike departs from its 3-point median by more than this many noise sd ...
@@ -104,10 +106,17 @@ def _noise_sd(x, same):
 
 
 def _acf(x, max_lag, demean=True):
-    """Autocorrelation at lags 0..max_lag (FFT, biased estimate), mean removed unless told."""
+    """Autocorrelation at lags 0..max_lag (biased estimate), mean removed unless told.
+
+    A few lags are direct dot products; many go through the FFT.
+    """
     n = len(x)
     if demean:
         x = x - x.mean()
+    if max_lag < _DIRECT_LAGS:
+        r = np.array([x[: n - k] @ x[k:] for k in range(min(max_lag, n - 1) + 1)])
+        r = np.concatenate([r, np.zeros(max_lag + 1 - len(r))])
+        return r / r[0] if r[0] > 0 else np.full(max_lag + 1, np.nan)
     nfft = 1 << int(np.ceil(np.log2(2 * n)))
     f = np.fft.rfft(x, nfft)
     r = np.fft.irfft(f * np.conj(f), nfft)[: max_lag + 1]
@@ -168,6 +177,11 @@ def _band(x, same, span):
     return float(np.percentile(d[ends], 10) / span)
 
 
+def _median3(a, b, c):
+    """Element-wise median of three arrays (without sorting)."""
+    return np.maximum(np.minimum(a, b), np.minimum(np.maximum(a, b), c))
+
+
 def _despike(x, span):
     """Replace spikes by their 3-point median; return (clean signal, spike sizes / span).
 
@@ -176,7 +190,7 @@ def _despike(x, span):
     """
     if len(x) < 3 or span <= 0:
         return x, np.empty(0)
-    med = np.median(np.stack([x[:-2], x[1:-1], x[2:]]), axis=0)
+    med = _median3(x[:-2], x[1:-1], x[2:])
     dev = np.abs(x[1:-1] - med)
     noise = _noise_sd(x, np.diff(x) == 0)
     hit = dev > max(_SPIKE_NOISE_SD * noise, _SPIKE_SPAN * span)
