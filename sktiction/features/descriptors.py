@@ -64,9 +64,12 @@ def _ccf_features(pv, op, max_lag):
         return np.nan, np.nan
     n = pv.size
     lags = np.arange(-max_lag, max_lag + 1)
-    ccf = np.array(
-        [np.dot(op[max(0, -k) : n - max(0, k)], pv[max(0, k) : n - max(0, -k)]) for k in lags]
-    ) / denom
+    ccf = (
+        np.array(
+            [np.dot(op[max(0, -k) : n - max(0, k)], pv[max(0, k) : n - max(0, -k)]) for k in lags]
+        )
+        / denom
+    )
     peak = int(np.argmax(np.abs(ccf)))
     return float(ccf[max_lag] / abs(ccf[peak])), float(lags[peak] / max_lag)
 
