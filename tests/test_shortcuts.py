@@ -69,13 +69,13 @@ def nuisance_statistics(X):
 
 @pytest.fixture(scope="module")
 def audit_data():
-    X, y = make_loops(400, 1000, random_state=11)
+    X, y = make_loops(600, 800, random_state=11)
     return nuisance_statistics(X), y
 
 
 def test_nuisance_does_not_predict_the_cause(audit_data):
     Z, y = audit_data
-    assert Z.shape == (400, len(NUISANCE)) and np.isfinite(Z).all()
+    assert Z.shape == (600, len(NUISANCE)) and np.isfinite(Z).all()
     score = _cv_balanced_accuracy(Z, y)
     assert score <= 0.60, score
 
@@ -83,7 +83,7 @@ def test_nuisance_does_not_predict_the_cause(audit_data):
 def test_the_audit_catches_a_planted_shortcut(audit_data):
     # the same audit on the classic world, where a setpoint step starts every sticky and
     # every aggressive loop, must see through it: otherwise it could not fail
-    X, y = make_loops(400, 1000, world="classic", random_state=11)
+    X, y = make_loops(600, 800, world="classic", random_state=11)
     Z = nuisance_statistics(X)
     score = _cv_balanced_accuracy(Z, y)
     assert score > 0.70, score

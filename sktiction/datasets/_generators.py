@@ -19,6 +19,7 @@ from ..simulation import (
     HeValve,
     IntegratingPlant,
     LinearValve,
+    LoadStep,
     NarrowbandDisturbance,
     NthOrderLag,
     PIController,
@@ -265,7 +266,7 @@ _DEFAULT_DEFAULTS = {
     "lambda_range": (0.05, 1.5),
     "stiction_models": STICTION_MODELS + ("he",),
     "S_range": (0.3, 8.0),
-    "snr_db_range": (0.0, 30.0),
+    "snr_db_range": (0.0, 40.0),
     "period_range": (8.0, 300.0),
     "slip_fraction": 0.3,
     "rules": RULES,
@@ -276,7 +277,7 @@ _DEFAULT_DEFAULTS = {
     "recording_fraction": 0.5,
     "short_fraction": 0.25,
     "min_length": 200,
-    "warmup": None,  # max(200, n_samples // 5)
+    "warmup": None,  # max(300, n_samples // 5)
 }
 
 
@@ -374,14 +375,16 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
         g = abs(K) if not integrating else abs(K) * (plant.delay + plant.time_constant)
         nominal = 2.0 * g  # PV change of a 2 % valve move
 
-        eff = []
+        # a feed change at the start of the warm-up moves every loop off its initial
+        # rest, so a sticky valve is cycling or slipping by the time the record starts
+        eff = [LoadStep(_loguniform(rng, 0.5, 5.0) * rng.choice([-1.0, 1.0]))]
         # process noise near the loop's bandwidth and a slow random walk, every loop
         where = "input" if rng.random() < 0.5 else "output"
         unit = 2.0 if where == "input" else nominal
         cutoff = min(_loguniform(rng, 0.3, 3.0) / pu_samples, 0.45)
         eff.append(
             ColouredLoad(
-                unit * _loguniform(rng, 0.03, 0.5), cutoff, int(rng.integers(1, 3)), where
+                unit * _loguniform(rng, 0.005, 0.5), cutoff, int(rng.integers(1, 3)), where
             )
         )
         if rng.random() < 0.5:
@@ -758,7 +761,7 @@ def make_loops(
         Default world only: shortest record (>= 20).
     warmup : int or None, default None
         Default world only: samples simulated and dropped before the record;
-        ``None`` means ``max(200, n_samples // 5)``.
+        ``None`` means ``max(300, n_samples // 5)``.
     realism : object or None, default=None
         Default world only: a calibrated world from
         :func:`sktiction.realism.calibrate`: a mapping ``realism.overrides`` of
@@ -920,7 +923,7 @@ def _check_default_options(opt, orders, n_samples, realism):
     if not isinstance(opt["min_length"], numbers.Integral) or opt["min_length"] < 20:
         raise ValueError(f"min_length must be an integer >= 20; got {opt['min_length']!r}.")
     if opt["warmup"] is None:
-        opt["warmup"] = max(200, n_samples // 5)
+        opt["warmup"] = max(300, n_samples // 5)
     if not isinstance(opt["warmup"], numbers.Integral) or opt["warmup"] < 0:
         raise ValueError(f"warmup must be an integer >= 0; got {opt['warmup']!r}.")
     opt["warmup"] = int(opt["warmup"])

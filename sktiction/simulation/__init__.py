@@ -77,6 +77,7 @@ from .disturbances import (  # noqa: E402
     CascadeSetpoint,
     ColouredLoad,
     Drift,
+    LoadStep,
     NarrowbandDisturbance,
     SquareDisturbance,
 )
@@ -90,4 +91,5 @@ __all__ += [
     "SquareDisturbance",
     "Drift",
     "CascadeSetpoint",
+    "LoadStep",
 ]

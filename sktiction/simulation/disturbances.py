@@ -18,6 +18,8 @@ Jelali & Huang 2010, ch. 2, among the confounders of stiction detection):
   loop rejects it and its OP ramps.
 * :class:`CascadeSetpoint`: the setpoint of a cascade secondary loop, which
   the primary controller moves on nearly every sample.
+* :class:`LoadStep`: a step in the load (a feed change), e.g. to move a loop
+  off its initial rest before the recorded window starts.
 
 All of them are exogenous effects (:class:`~sktiction.simulation.Effect`):
 their arrays are drawn before the compiled loop runs.
@@ -38,6 +40,7 @@ __all__ = [
     "SquareDisturbance",
     "Drift",
     "CascadeSetpoint",
+    "LoadStep",
 ]
 
 
@@ -306,3 +309,36 @@ class CascadeSetpoint(Effect):
         sp = self.std * (slow + self.jitter * rng.standard_normal(n_samples))
         # the loop starts at rest on its setpoint: shift so that sp[0] = 0
         return {"setpoint": sp - sp[0]}
+
+
+class LoadStep(Effect):
+    """A load step of ``size`` from time ``time`` on.
+
+    Parameters
+    ----------
+    size : float
+        Step size (PV units at the output, % of span at the input).
+    time : float, default=0.0
+        Time of the step (>= 0), in the time unit of ``ts``; the first sample stays
+        at rest, so a step at 0 acts from the second sample on.
+    where : {"output", "input"}, default="input"
+
+    Examples
+    --------
+    >>> from sktiction.simulation import LoadStep
+    >>> LoadStep(2.0).signals(4, 1.0, None)["input_load"].tolist()
+    [0.0, 2.0, 2.0, 2.0]
+    """
+
+    def __init__(self, size, time=0.0, where="input"):
+        self.size = float(size)
+        if not np.isfinite(self.size):
+            raise ValueError(f"size must be a finite number; got {size!r}.")
+        self.time = check_positive(time, "time", strict=False)
+        self.where = _check_where(where)
+
+    def signals(self, n_samples, ts, rng):
+        k0 = max(1, int(np.ceil(self.time / ts - 1e-9)))
+        load = np.zeros(n_samples)
+        load[k0:] = self.size
+        return {f"{self.where}_load": load}
