@@ -16,6 +16,7 @@ from sktiction.simulation import (
     Drift,
     HeValve,
     HoldLastValue,
+    LoadStep,
     NarrowbandDisturbance,
     RelayValve,
     SquareDisturbance,
@@ -313,5 +314,7 @@ def test_disturbances():
     assert dr[0] == 0.0 and curv.sum() <= 3
     sp = CascadeSetpoint(1.0, phi=0.9).signals(500, 1.0, rng)["setpoint"]
     assert sp[0] == 0.0 and np.mean(np.diff(sp) != 0) == 1.0
+    step = LoadStep(-1.5, time=2.5, where="output").signals(6, 1.0, rng)["output_load"]
+    assert step.tolist() == [0.0, 0.0, 0.0, -1.5, -1.5, -1.5]
     with pytest.raises(ValueError, match="period must exceed 2 ts"):
         NarrowbandDisturbance(1.0, 1.5).signals(10, 1.0, rng)
