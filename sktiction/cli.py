@@ -319,9 +319,9 @@ def _demo(args):
     from .reports import scan_loops
 
     data = load_example()
-    X, meta = data.X, data.meta[["cause"]].assign(source="simulated")
+    X, meta = data.X, data.meta[["cause"]].assign(source="simulated", ts=1.0)
     meta.insert(0, "file", [f"simulated_{i:02d}" for i in range(len(X))])
-    meta["tag"] = meta["cause"]
+    meta["tag"] = ""
     truth = data.y.astype(bool)
     try:
         from .datasets._plant_examples import load_plant_examples
@@ -330,8 +330,8 @@ def _demo(args):
     except (ImportError, FileNotFoundError):
         plant = None
     if plant is not None:
-        pmeta = plant.meta.assign(source="plant", cause=plant.meta["label"])
-        pmeta = pmeta[["file", "tag", "cause", "source"]]
+        pmeta = plant.meta.assign(source="plant", cause=plant.meta["label"], ts=plant.meta["ts"])
+        pmeta = pmeta[["file", "tag", "cause", "source", "ts"]]
         n = max(X.shape[1], plant.X.shape[1])
         pad = lambda a: np.pad(a, ((0, 0), (0, n - a.shape[1]), (0, 0)),  # noqa: E731
                                constant_values=np.nan)

@@ -20,6 +20,7 @@ from .._validation import check_loops
 TABLE_COLUMNS = (
     ("file", "file", "text"),
     ("tag", "tag", "text"),
+    ("cause", "known cause", "text"),
     ("verdict", "verdict", "text"),
     ("stiction_probability", "p(stiction)", "prob"),
     ("stiction_size_mean", "stiction size, % travel", "num1"),
@@ -38,6 +39,7 @@ th,td{padding:.25em .6em;border-bottom:1px solid #ddd;text-align:left;vertical-a
 th{background:#f3f4f6;cursor:pointer;user-select:none;position:sticky;top:0}
 th.sorted-asc::after{content:" \\25B2"} th.sorted-desc::after{content:" \\25BC"}
 td.num{text-align:right;font-variant-numeric:tabular-nums}
+td.file{max-width:26em;overflow-wrap:anywhere} td.reason{max-width:24em}
 tr.stiction td.verdict{color:#b91c1c;font-weight:600}
 tr.no_stiction td.verdict{color:#15803d}
 tr.no_verdict td.verdict{color:#6b7280}
