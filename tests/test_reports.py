@@ -64,10 +64,11 @@ def test_example_matches_its_generator():
     assert data.y.tolist() == (data.meta["cause"] == "stiction").astype(int).tolist()
 
 
-def test_cli_demo_prints_a_summary(capsys):
+def test_cli_demo_prints_a_summary(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # the demo writes its HTML report here
     assert main(["demo"]) == 0
     out = capsys.readouterr().out
-    assert "sticky loops caught" in out and "stiction_probability" in out
+    assert "scanned" in out and "no_stiction" in out
 
 
 def test_plot_loop_draws_cycles():
@@ -86,12 +87,13 @@ def test_cli_scan_reports_good_and_bad_files(tmp_path, capsys):
         pd.DataFrame({"PV": X[i, :, 0], "OP": X[i, :, 1], "SP": X[i, :, 2]}).to_csv(
             tmp_path / f"FIC10{i}.csv", index=False
         )
-    (tmp_path / "broken.csv").write_text("PV,OP\n1,abc\n")
+    (tmp_path / "broken.csv").write_text("A,B\n1,2\n")  # no PV column
     out = tmp_path / "report.csv"
-    assert main(["scan", str(tmp_path), "--ts", "1", "-o", str(out), "-q"]) == 0
+    # exit code 1: some files could not be read
+    assert main(["scan", str(tmp_path), "--ts", "1", "-o", str(out), "-q"]) == 1
     report = pd.read_csv(out)
     assert len(report) == 3
     broken = report[report["file"] == "broken.csv"].iloc[0]
     assert broken["verdict"] == "no_verdict" and broken["input_status"] == "error"
-    assert "abc" in broken["input_reason"]
+    assert "no PV column" in broken["input_reason"]
     assert report.loc[report["file"] != "broken.csv", "status"].eq("ok").all()
