@@ -472,13 +472,17 @@ def loop_statistics(X, ts=None):
           ``pv_averaging_contrast``: PV's alone (a PV filter or PV-only averaging).
         - ``pv_repeat_fraction``, ``op_repeat_fraction``: share of samples equal to the one
           before; ``row_repeat_fraction``: PV and OP both repeated.
-        - ``hold_run_length``: mean length of the runs where PV and OP both repeat.
+        - ``hold_fraction``: share of samples in runs of repeats (2 samples or more) that
+          start and stop on the same samples in PV and OP: whole rows held (hold-last-value).
+          Per-tag compression freezes tags on their own, so its runs rarely coincide;
+          ``hold_run_length``: mean length of those coincident runs.
         - ``joint_repeat_excess``: ``row_repeat_fraction - pv_repeat * op_repeat``, joint
-          freezing beyond chance: whole rows held (hold-last-value); per-tag compression or
-          quantisation freeze tags independently and leave it near 0.
-        - ``independent_freeze``: mean over PV and OP of ``(repeat - row_repeat) * (1 -
-          level_reuse)``: tags frozen on their own at values off any grid (deadband or
-          swinging-door compression); zero for held rows and for quantised values.
+          freezing beyond chance (a cruder hold indicator; compression of tags that move
+          together also raises it).
+        - ``independent_freeze``: mean over PV and OP of the share of samples in runs of
+          repeats not matched by the other tag and ended by a jump off the grid of the
+          tag's smallest change: tags frozen on their own at values off any grid (deadband
+          or swinging-door compression); zero for held rows and for quantised values.
         - ``pv_level_reuse``, ``op_level_reuse``: ``1 - distinct values / (changes + 1)``;
           quantised signals revisit their levels (near 1), continuous ones do not (0).
         - ``pv_step``: smallest non-zero PV change, share of the span (the grid step when
