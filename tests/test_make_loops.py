@@ -292,6 +292,19 @@ def test_he_valve_with_no_dynamic_friction_is_the_relay():
         HeValve(1.0, 2.0)
 
 
+@pytest.mark.parametrize("valve", [HeValve(2.0, 0.5), RelayValve(2.0)])
+def test_closed_loop_valve_is_the_valve_model(valve):
+    # the compiled loop must step the same valve model as the valve alone (a stale numba
+    # cache of the loop kernel once kept an older valve_step without the He model)
+    from sktiction.simulation import FOPTD, PIController, SetpointSteps, simulate_loop
+
+    plant = FOPTD(1.0, 10.0, 2.0)
+    res = simulate_loop(plant, PIController.from_plant(plant), valve, 600, 1.0,
+                        effects=[SetpointSteps([5.0], [3.0])])  # fmt: skip
+    np.testing.assert_array_equal(res.valve, valve.simulate(res.op, initial_position=50.0))
+    assert np.ptp(res.valve) > 2.0
+
+
 def test_he_valve_sticks_and_slips_on_a_slow_ramp():
     # moving slowly, the valve slips by fs - fd each time the residual force beats fs
     fs, fd = 2.0, 0.5

@@ -649,8 +649,10 @@ def make_loops(
     **Default world.** Every loop runs 50 % direct, 50 % reverse acting
     (plant gain sign), from an OP of 15-85 %, with PV in its own units (scale
     0.05-20, level 20-80 scaled) and is recorded after a warm-up of ``warmup``
-    samples so that no loop starts from rest (the start-up transient is the
-    same for all causes). Drawn alike for every cause:
+    samples, which begins with a feed change (a load step of 0.5-5 % at the
+    plant input), so that no loop is recorded at rest and a sticky valve is
+    already cycling or slipping (the start-up is the same for all causes).
+    Drawn alike for every cause:
 
     - tuning rule (AMIGO, CHR, Ziegler-Nichols, Cohen-Coon; AMIGO or SIMC for
       integrating plants), and how the loop is run: averaging level control for
