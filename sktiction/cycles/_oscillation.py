@@ -103,9 +103,9 @@ def detect_oscillations(
        normalisation; its period is the mean interval between
        alternate zero crossings (Thornhill's Tp) and its regularity
        r = mean(Tp) / (3 sd(Tp)) over the first ten such intervals.
-    5. Coherence: the ACF peak near two periods (near one period when two do not fit
-       in 60 % of the record). A filter this wide leaves white noise an ACF of
-       almost nothing there; a cycle that keeps its phase keeps it near 1.
+    5. Coherence: the mean of the ACF peaks near one and two periods (one alone when
+       two do not fit in 60 % of the record). A filter this wide leaves white noise
+       an ACF of about 0.1 and 0 there; a cycle that keeps its phase keeps it near 1.
     6. Score = log10(prominence) + coherence - 2.5 / sqrt(cycles in the record): few
        cycles give noisy estimates, so they need more evidence. The index is the
        logistic function of (score - 1) / 0.2, so it lies in [0, 1] and is 0.5 at
@@ -262,12 +262,15 @@ def _band_acf(power, k, m, n, bandwidth):
     if abs(np.log(period * k / m)) > 0.3:  # the ACF follows another (slower) component
         return None
     regularity = float(period / (3 * tp.std())) if tp.std() > 0 else np.inf
-    # coherence: the ACF peak near two periods (one when two do not fit)
-    j = 2 if 2.25 * period <= 0.6 * n else 1
-    lo, hi = int((j - 0.25) * period / step), int((j + 0.25) * period / step) + 1
-    if hi <= lo or lo >= acf.size:
+    # coherence: mean ACF peak near one and two periods (one alone when two do not fit)
+    peaks = []
+    for j in (1, 2):
+        lo, hi = int((j - 0.25) * period / step), int((j + 0.25) * period / step) + 1
+        if lo < hi <= acf.size:
+            peaks.append(acf[lo:hi].max())
+    if not peaks:
         return None
-    coherence = float(np.clip(acf[lo:hi].max(), 0.0, 1.0))
+    coherence = float(np.clip(np.mean(peaks), 0.0, 1.0))
     return period, regularity, coherence, float(bp.sum())
 
 
