@@ -153,3 +153,30 @@ def test_scheduler_runs_the_scan_on_a_dask_cluster(quick, folder, tmp_path):
     assert code == 1  # broken.csv
     table = pd.read_csv(out)
     assert len(table) == 3 and table["verdict"].notna().all()
+
+
+def test_demo_writes_the_report_with_real_plant_windows(quick, tmp_path, capsys,
+                                                       monkeypatch):
+    from sklearn.utils import Bunch
+
+    from sktiction import datasets
+
+    full = datasets.load_example()
+    few = Bunch(X=full.X[:3], y=full.y[:3], meta=full.meta.iloc[:3].reset_index(drop=True))
+    monkeypatch.setattr(datasets, "load_example", lambda: few)  # a faster demo
+    report = tmp_path / "demo.html"
+    assert cli.main(["demo", "--report", str(report)]) == 0
+    out = capsys.readouterr().out
+    assert "3 simulated loops and 6 real plant windows" in out
+    assert "plant: stiction found in" in out
+    text = report.read_text()
+    for tag in ("2111FIC46005", "2411FIC20102", "2111LIC44001", "2411PDIC10321"):
+        assert tag in text
+    assert text.count("<tr ") == 9
+    assert text.count('src="data:image/png;base64,') == 9
+
+
+def test_compare_is_wired_to_realism(no_training, tmp_path, capsys):
+    pytest.importorskip("sktiction.realism._cli")
+    assert cli.main(["compare", str(tmp_path / "nope")]) == 2
+    assert "no such file or folder" in capsys.readouterr().err
