@@ -244,6 +244,12 @@ def test_area_ratio_of_each_half_cycle(filt):
     analysis, ratios, halves = AreaRatio(filter=filt).half_cycles(X[0, :, 2] - X[0, :, 0])
     assert analysis.oscillating and len(ratios) == len(halves) >= 20
     assert np.allclose(ratios[1:-1], 3.0, rtol=0.01)
+    # its own options are used: the filter on a noisy loop, min_cycles on a short one
+    noisy = _asymmetric_loop(0.75, noise=0.3)
+    e = noisy[0, :, 2] - noisy[0, :, 0]
+    if filt == "horch":
+        assert not _same(AreaRatio(filter=filt).half_cycles(e)[1], AreaRatio().half_cycles(e)[1])
+    assert not AreaRatio(filter=filt, min_cycles=30).half_cycles(e)[0].oscillating
 
 
 @pytest.mark.xfail(
