@@ -163,9 +163,11 @@ def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
         Loop type of each measured loop (overrides the Bunch's); profiles can then be drawn
         per type with ``Realism.recording_effects(rng, loop_type=...)``.
     refine : bool, default=True
-        Correct the SNR range with two pilot simulations of 80 loops of
-        ``make_loops(..., realism=...)`` (a second or two) so that the simulated median noise
-        level matches the measured one; needs the ``realism`` argument of ``make_loops``.
+        Refine with pilot simulations of ``make_loops(..., realism=...)`` (a few seconds;
+        needs its ``realism`` argument): the mix of noise colours whose simulated
+        ``noise_colour`` is closest to the measured one (seven mixes of 60 loops), then the
+        SNR range, shifted twice (80 loops each) so that the simulated median noise level
+        matches the measured one.
     random_state : None, int or numpy.random.Generator, default=None
         Seed of the pilot simulation (the per-loop fit itself is deterministic).
 
@@ -218,9 +220,59 @@ def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
         if fit is not None:
             overrides.update({k: v for k, v in fit(stats).items() if k in allowed})
     realism = Realism(profiles, overrides, stats)
-    if refine and "snr_db_range" in overrides and "realism" in allowed:
-        _refine_snr(realism, random_state)
+    if refine and "realism" in allowed:
+        if "noise_colours" in allowed:
+            _refine_colours(realism, random_state)
+        if "snr_db_range" in overrides:
+            _refine_snr(realism, random_state)
     return realism
+
+
+# Noise colour mixes tried by the pilot simulations (names of make_loops' noise_colours).
+_COLOUR_MIXES = (
+    ("white",),
+    ("white", "ar1"),
+    ("white", "ar1", "bandlimited"),
+    ("white", "bandlimited"),
+    ("ar1",),
+    ("ar1", "bandlimited"),
+    ("bandlimited",),
+)
+
+
+def _cliff(a, b):
+    from scipy.stats import mannwhitneyu
+
+    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
+    if len(a) < 5 or len(b) < 5:
+        return np.inf
+    return abs(2.0 * mannwhitneyu(a, b).statistic / (len(a) * len(b)) - 1.0)
+
+
+def _refine_colours(realism, random_state, n_loops=60, n_samples=600):
+    """Pick the noise-colour mix whose simulated ``noise_colour`` is closest to the measured.
+
+    One pilot simulation per mix of :data:`_COLOUR_MIXES`; closeness is |Cliff's delta|.
+    """
+    from ..datasets import make_loops
+
+    measured = realism.statistics["noise_colour"].to_numpy(dtype=float)
+    if np.isfinite(measured).sum() < 5:
+        return
+    rng = check_random_state_seed(random_state)
+    best, best_d = None, np.inf
+    for mix in _COLOUR_MIXES:
+        trial = Realism(realism.profiles, {**realism.overrides, "noise_colours": mix},
+                        realism.statistics)  # fmt: skip
+        try:
+            X, _ = make_loops(n_loops, n_samples, realism=trial, random_state=rng)
+        except ValueError:  # a colour this make_loops does not know
+            continue
+        d = _cliff(loop_statistics(X)["noise_colour"].to_numpy(dtype=float), measured)
+        if d < best_d:
+            best, best_d = mix, d
+    if best is not None:
+        realism.overrides["noise_colours"] = best
 
 
 def _refine_snr(realism, random_state, n_loops=80, n_samples=600, n_steps=2):
