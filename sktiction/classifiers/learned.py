@@ -597,7 +597,6 @@ _TRAINING_SOURCES = (
     "features",
     "simulation",
     "datasets/_generators.py",
-    "realism",
 )
 
 
