@@ -7,11 +7,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from sktiction.classifiers import applicability
 from sktiction.classifiers.applicability import (
     APPLICABILITY_COLUMNS,
     MIN_SAMPLES,
-    _chance_level,
-    _coherence,
     assess_applicability,
 )
 from sktiction.datasets import make_loops, read_loops
@@ -104,13 +103,14 @@ def test_garbage_is_rejected():
 def test_closed_loops_are_accepted(world):
     """Simulated closed loops of every cause pass (at least 98 % of each cause).
 
-    The default world records half of its loops through historian effects, some heavy
-    (compression bands up to 15 % of span, grids up to 10 %): a quiet loop may then keep
-    its OP frozen on all but a few dozen samples, and is rightly ``too_compressed`` or
-    ``quantised``; and a short record (it cuts a quarter to 200-1,500 samples) of a loop
-    whose noise the controller never saw may not show the PV-OP relation. There the 98 %
-    hold for the full-length loops recorded without such effects, and 90 % for all, with
-    only those reasons.
+    The default world is recorded as plants are, and some of its loops cannot be
+    diagnosed: heavy historian compression (bands up to 15 % of span) keeps a quiet
+    loop's OP frozen on all but a few dozen samples (``too_compressed``); a grid up to
+    10 % of span (``quantised``); a recorded PV that is mostly noise the controller never
+    saw (behind a PV filter, SNR down to 0 dB), or a short record (a quarter are cut to
+    200-1,500 samples), shows no PV-OP relation (``pv_op_unrelated``). There the 98 %
+    hold for the full-length loops recorded without historian effects, and 85 % for all,
+    with only those reasons.
     """
     X, _, meta = make_loops(400, n_samples=1500, world=world, random_state=3,
                             return_meta=True)
@@ -120,7 +120,7 @@ def test_closed_loops_are_accepted(world):
     if world == "default":
         clean = (meta["recording"].eq("none") & meta["record_length"].eq(1500)).to_numpy()
         by_cause = result["applicable"].groupby(cause).mean()
-        assert (by_cause >= 0.9).all(), by_cause
+        assert (by_cause >= 0.85).all(), by_cause
         rejected = result[~result["applicable"]]
         assert set(rejected["reason"]) <= {"too_compressed", "pv_op_unrelated", "quantised"}
     by_cause = result["applicable"][clean].groupby(cause[clean]).mean()
@@ -182,18 +182,17 @@ def test_two_dimensional_input_is_pv_only():
     assert assess_applicability(X[:, :, 0])["reason"].tolist() == ["no_op", "no_op"]
 
 
-def test_coherence_chance_level_holds_for_independent_noise():
+def test_coherence_chance_level_holds_for_independent_noise(monkeypatch):
     """The chance level is a false-alarm rate: check it by Monte Carlo at alpha = 5 %."""
+    monkeypatch.setattr(applicability, "ALPHA", 0.05)
     rng = np.random.default_rng(42)
     for n in (300, 1500):
-        hits = 0
         trials = 1000
-        for _ in range(trials):
-            a, b = rng.standard_normal(n), rng.standard_normal(n)
-            best, _ = _coherence([(a, b)], n)
-            nperseg = int(np.clip(n // 12, 32, 256)) // 2 * 2
-            n_segments = (n - nperseg) // (nperseg // 2) + 1
-            hits += best > _chance_level(nperseg // 2, n_segments, alpha=0.05)
+        hits = sum(
+            applicability._coherence([(rng.standard_normal(n), rng.standard_normal(n))], n)[1]
+            > 1.0
+            for _ in range(trials)
+        )
         # binomial(1000, 0.05): mean 50, sd 7; the level must not be exceeded more often
         assert hits <= 50 + 3 * 7, (n, hits)
         assert hits >= 5, (n, hits)  # and not absurdly conservative
@@ -202,7 +201,7 @@ def test_coherence_chance_level_holds_for_independent_noise():
 def test_closed_loop_is_coherent_far_above_chance():
     X, _ = make_loops(1, n_samples=2000, world="classic", random_state=2)
     result = assess_applicability(X)
-    assert result.loc[0, "pv_op_coherence"] > 1.5 * result.loc[0, "coherence_chance_level"]
+    assert result.loc[0, "coherence_ratio"] > 1.5
 
 
 @pytest.mark.skipif(not DATA.is_dir(), reason="measured data not available")
@@ -213,3 +212,14 @@ def test_labelled_measured_loops_are_all_applicable():
     assert len(result) == 56
     bad = data.meta.loc[~result["applicable"].to_numpy(), "file"].tolist()
     assert not bad, result.loc[~result["applicable"], "reason"].tolist()
+
+
+def test_scan_calls_no_garbage_loop_sticky():
+    """Through the scan, whatever the learned model says, garbage gets no stiction verdict."""
+    from sktiction import pretrained_classifier
+    from sktiction.reports import scan_loops
+
+    X, kinds = make_garbage(200, random_state=7)
+    clf = pretrained_classifier(random_state=0, n_loops=60, n_samples=800)
+    report = scan_loops(X, classifier=clf)
+    assert report["verdict"].eq("stiction").sum() <= 1, pd.crosstab(kinds, report["verdict"])

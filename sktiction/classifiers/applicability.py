@@ -15,12 +15,14 @@ Every threshold is a chance level or a physical bound, none is fitted to measure
 - ``pv_op_unrelated``: in a closed loop the controller makes OP a linear filter of the
   control error, so PV (or SP - PV) and OP are coherent at the frequencies where the loop
   moves. The largest magnitude-squared coherence (Welch, Hann windows, half overlap,
-  linear detrend per segment) must exceed its chance level: for independent signals and
-  ``K`` independent segments ``P(C > c) = (1 - c) ** (K - 1)`` (Carter 1987); ``K`` is the
+  linear detrend per segment; segments of 1/12 and 1/4 of the record, for fast dynamics
+  and slow cycles) must exceed its chance level: for independent signals and ``K``
+  independent segments ``P(C > c) = (1 - c) ** (K - 1)`` (Carter 1987); ``K`` is the
   equivalent count of the overlapping, detrended segments (``K / 1.2``, checked by a Monte
-  Carlo of independent noise) and the level is Bonferroni-corrected over the frequencies and
-  signals tested, at :data:`ALPHA`. Rows where neither PV nor OP moved (historian holds) are
-  left out first: unrelated signals held together would share their step times.
+  Carlo of independent noise), and the level is Bonferroni-corrected over the frequencies,
+  the signals and the two resolutions, at :data:`ALPHA`. Rows where neither PV nor OP
+  moved (historian holds) are left out first: unrelated signals held together would share
+  their step times.
 - ``quantised``: the values sit on a grid of step ``q`` (sample-to-sample changes are whole
   multiples of it) and the quantisation noise ``q**2 / 12`` is within 10 dB of the signal
   (signal-to-quantisation-noise ratio ``12 sd**2 / q**2`` below
@@ -66,6 +68,8 @@ MIN_CHANGES = 32
 # straight line is removed; a Monte Carlo of independent white noise (300-3,000 samples,
 # see tests/test_applicability.py) gives at most the nominal false-alarm rate with K / 1.2.
 _SEGMENT_DIVISOR = 1.2
+# Welch segments as a share of the record: 1/12 for fast dynamics, 1/4 for slow cycles.
+_SEGMENT_FRACTIONS = (12, 4)
 # A change this many grid steps off a whole multiple is off the grid.
 _GRID_TOLERANCE = 0.05
 # Share of changes on the grid for a signal to count as sitting on one.
@@ -84,7 +88,7 @@ APPLICABILITY_COLUMNS = (
     "reason",
     "n_samples",
     "pv_op_coherence",
-    "coherence_chance_level",
+    "coherence_ratio",
     "pv_repeat_fraction",
     "op_repeat_fraction",
     "n_informative_rows",
@@ -178,27 +182,43 @@ def _chance_level(n_tests, n_segments, alpha=ALPHA):
 
 
 def _coherence(pairs, n):
-    """Largest coherence over frequencies and signal pairs, and its chance level.
+    """Largest coherence over frequencies, signal pairs and two resolutions, as a share of
+    its chance level (unrelated signals exceed 1 with probability :data:`ALPHA`).
 
     Welch's estimate with periodic Hann windows, half overlap and a linear detrend
     per segment (the same numbers as ``scipy.signal.coherence(..., detrend="linear")``
-    for an even ``nperseg``, without its per-segment least squares).
+    for an even ``nperseg``, without its per-segment least squares). Segments of a
+    twelfth of the record resolve fast dynamics with many segments; segments of a quarter
+    keep slow cycles that a short segment's detrend would remove. Each resolution is
+    tested at ``ALPHA / 2``.
+
+    Returns
+    -------
+    best : float
+        Largest coherence found (at the resolution where it stands highest above chance).
+    ratio : float
+        ``best`` divided by its chance level.
     """
-    nperseg = int(np.clip(n // 12, 32, 256))
-    nperseg -= nperseg % 2
-    window = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(nperseg) / nperseg)
-    best, n_tests, n_segments = 0.0, 0, 0
-    for a, b in pairs:
-        fa = np.fft.rfft(_segments(a, nperseg) * window, axis=1)[:, 1:]
-        fb = np.fft.rfft(_segments(b, nperseg) * window, axis=1)[:, 1:]
-        n_segments = len(fa)
-        cross = np.abs((np.conj(fa) * fb).mean(axis=0)) ** 2
-        power = (np.abs(fa) ** 2).mean(axis=0) * (np.abs(fb) ** 2).mean(axis=0)
-        ok = power > 0  # frequency 0 is left out: the mean is removed per segment
-        n_tests += int(ok.sum())
-        if ok.any():
-            best = max(best, float((cross[ok] / power[ok]).max()))
-    return best, _chance_level(n_tests, n_segments)
+    best_ratio, best_value = 0.0, 0.0
+    for fraction in _SEGMENT_FRACTIONS:
+        nperseg = int(np.clip(n // fraction, 32, 512))
+        nperseg -= nperseg % 2
+        window = 0.5 - 0.5 * np.cos(2.0 * np.pi * np.arange(nperseg) / nperseg)
+        best, n_tests, n_segments = 0.0, 0, 0
+        for a, b in pairs:
+            fa = np.fft.rfft(_segments(a, nperseg) * window, axis=1)[:, 1:]
+            fb = np.fft.rfft(_segments(b, nperseg) * window, axis=1)[:, 1:]
+            n_segments = len(fa)
+            cross = np.abs((np.conj(fa) * fb).mean(axis=0)) ** 2
+            power = (np.abs(fa) ** 2).mean(axis=0) * (np.abs(fb) ** 2).mean(axis=0)
+            ok = power > 0  # frequency 0 is left out: the mean is removed per segment
+            n_tests += int(ok.sum())
+            if ok.any():
+                best = max(best, float((cross[ok] / power[ok]).max()))
+        chance = _chance_level(n_tests, n_segments, ALPHA / len(_SEGMENT_FRACTIONS))
+        if best / chance > best_ratio:
+            best_ratio, best_value = best / chance, best
+    return best_value, best_ratio
 
 
 def _prepare(x):
@@ -255,7 +275,7 @@ def _decide(x, stats):
     if not np.isnan(sp).any() and np.ptp(sp) > 0:
         pairs.append(((sp - pv)[moved], op[moved]))  # the controller's own input
     if n_rows >= MIN_SAMPLES:
-        row["pv_op_coherence"], row["coherence_chance_level"] = _coherence(pairs, n_rows)
+        row["pv_op_coherence"], row["coherence_ratio"] = _coherence(pairs, n_rows)
     changes = (n - 1) * (1.0 - max(row["pv_repeat_fraction"], row["op_repeat_fraction"]))
     row["n_changes"] = int(round(changes))
     if min(row["pv_quantisation_snr_db"], row["op_quantisation_snr_db"]) < (
@@ -264,7 +284,7 @@ def _decide(x, stats):
         row["reason"] = REASON_QUANTISED
     elif n_rows < MIN_SAMPLES or changes < MIN_CHANGES:
         row["reason"] = REASON_TOO_COMPRESSED
-    elif not row["pv_op_coherence"] > row["coherence_chance_level"]:
+    elif not row["coherence_ratio"] > 1.0:
         row["reason"] = REASON_UNRELATED
     else:
         row["reason"] = STATUS_OK
@@ -302,8 +322,9 @@ def assess_applicability(X, ts=None):
           ``too_compressed``, ``pv_op_unrelated``.
         - ``n_samples``: record length before the NaN padding.
         - ``pv_op_coherence``: largest magnitude-squared coherence of OP with PV
-          (and with SP - PV when SP moves); ``coherence_chance_level``: the level
-          unrelated signals exceed with probability :data:`ALPHA`.
+          (and with SP - PV when SP moves); ``coherence_ratio``: the largest
+          coherence over its chance level (unrelated signals exceed 1 with
+          probability :data:`ALPHA`).
         - ``pv_repeat_fraction``, ``op_repeat_fraction``: share of samples equal
           to the one before (:func:`sktiction.realism.loop_statistics`).
         - ``n_changes``: samples on which the less lively of PV and OP changes.
