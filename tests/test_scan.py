@@ -186,14 +186,14 @@ def test_scan_files_bridges_short_gaps_and_does_not_depend_on_the_chunk(site, sm
                                                                         no_gate):
     from sktiction.reports import scan_files
 
-    one = scan_files(site, classifier=small_learned, chunk_size=1)
-    four = scan_files(site, classifier=small_learned, chunk_size=4, n_jobs=2)
+    one = scan_files(site, classifier=small_learned, chunk_size=1, max_gap=5)
+    four = scan_files(site, classifier=small_learned, chunk_size=4, n_jobs=2, max_gap=5)
     pd.testing.assert_frame_equal(one, four)
     gap = one[one["file"] == "FIC003.csv"].iloc[0]
     assert gap["status"] == "ok" and gap["n_bridged"] == 1
 
 
-def test_scan_files_on_a_dask_cluster_gives_the_local_report(site, small_learned):
+def test_scans_on_a_dask_cluster_give_the_local_report(site, small_learned):
     distributed = pytest.importorskip("distributed")
     from sktiction.reports import scan_files
 
@@ -204,4 +204,8 @@ def test_scan_files_on_a_dask_cluster_gives_the_local_report(site, small_learned
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         remote = scan_files(site, classifier=small_learned, chunk_size=2, client=client)
+        X, types = mixed_loops()
+        meta = pd.DataFrame({"loop_type": types})
+        in_memory = scan_loops(X, meta, classifier=small_learned, chunk_size=6, client=client)
     pd.testing.assert_frame_equal(remote, local)
+    pd.testing.assert_frame_equal(in_memory, scan_loops(X, meta, classifier=small_learned))

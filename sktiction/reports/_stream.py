@@ -7,12 +7,10 @@ not by the site. Units run in this process, in joblib workers or on a dask clust
 
 from __future__ import annotations
 
-import uuid
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from joblib import Parallel, delayed
 
 from .._validation import STATUS_OK, check_loops, repair_gaps
 from ..classifiers import pretrained_classifier
@@ -27,6 +25,7 @@ from .scan import (
     join_meta,
     loop_types_of,
     progress_bar,
+    run_units,
     sampling_times,
 )
 
@@ -209,31 +208,12 @@ def scan_files(
     rules = _Rules(check_loops(np.zeros((1, 30, 3))))
     gate = _applicability_gate()
     groups = _groups(files, chunk_size)
-    args = (channels, ts, max_gap)
-    parts = [None] * len(groups)
+    units = [(g, channels, ts, max_gap) for g in groups]
     with progress_bar(len(files), progress, unit="file") as bar:
-        if client is not None:
-            from distributed import as_completed
-
-            shared = client.scatter([learned, rules], broadcast=True)
-            run = uuid.uuid4().hex
-            futures = [
-                client.submit(_scan_group, g, *args, shared[0], shared[1], gate, chunk_size,
-                              pure=False, key=f"sktiction-scan-{run}-{k}")
-                for k, g in enumerate(groups)
-            ]
-            index = {f.key: k for k, f in enumerate(futures)}
-            for future in as_completed(futures):
-                k = index[future.key]
-                parts[k] = future.result()
-                bar.update(len(groups[k]))
-                future.release()
-        else:
-            jobs = (
-                delayed(_scan_group)(g, *args, learned, rules, gate, chunk_size) for g in groups
-            )
-            results = Parallel(n_jobs=n_jobs, return_as="generator")(jobs)
-            for k, part in enumerate(results):
-                parts[k] = part
-                bar.update(len(groups[k]))
+        parts = run_units(_scan_unit, units, (learned, rules, gate, chunk_size), n_jobs=n_jobs,
+                          client=client, bar=bar, sizes=[len(g) for g in groups])
     return pd.concat(parts, ignore_index=True)
+
+
+def _scan_unit(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
+    return _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size)

@@ -266,8 +266,45 @@ def progress_bar(total, enabled, unit="loop"):
                 dynamic_ncols=True)
 
 
+def run_units(fn, units, shared, *, n_jobs=None, client=None, bar=None, sizes=None):
+    """``[fn(*unit, *shared) for unit in units]`` in order, locally (joblib) or on dask.
+
+    ``shared`` arguments (the models) go to each dask worker once; results arrive as
+    they finish and ``bar`` advances by ``sizes[k]`` for unit k.
+    """
+    out = [None] * len(units)
+    sizes = [1] * len(units) if sizes is None else sizes
+    if client is None:
+        jobs = (delayed(fn)(*unit, *shared) for unit in units)
+        for k, part in enumerate(Parallel(n_jobs=n_jobs, return_as="generator")(jobs)):
+            out[k] = part
+            if bar is not None:
+                bar.update(sizes[k])
+        return out
+    import uuid
+
+    from distributed import as_completed
+
+    remote = client.scatter(list(shared), broadcast=True)
+    run = uuid.uuid4().hex
+    futures = [client.submit(fn, *unit, *remote, pure=False, key=f"sktiction-scan-{run}-{k}")
+               for k, unit in enumerate(units)]
+    index = {f.key: k for k, f in enumerate(futures)}
+    for future in as_completed(futures):
+        k = index[future.key]
+        out[k] = future.result()
+        future.release()
+        if bar is not None:
+            bar.update(sizes[k])
+    return out
+
+
+def _scan_unit(loops, loop_types, ts, learned, rules, gate):
+    return _scan_safely(loops, loop_types, learned, rules, ts, gate)
+
+
 def scan_loops(
-    X, meta=None, *, classifier=None, chunk_size=64, n_jobs=None, progress=False
+    X, meta=None, *, classifier=None, chunk_size=64, n_jobs=None, progress=False, client=None
 ):
     """Diagnose every loop of a batch; bad loops get a status, never an exception.
 
@@ -300,6 +337,10 @@ def scan_loops(
         Parallel workers (joblib) over chunks.
     progress : bool, default=False
         Show a progress bar with rate and ETA on standard error (tqdm).
+    client : dask.distributed.Client or None, default=None
+        Run the chunks on this dask cluster (``pip install "sktiction[dask]"``; the
+        chunks are sent to the workers). For files, :func:`scan_files` lets the
+        workers read their own. The report is the same as a local scan's.
 
     Returns
     -------
@@ -332,21 +373,14 @@ def scan_loops(
     learned = LearnedAdapter(classifier if classifier is not None else pretrained_classifier())
     rules = _Rules(check_loops(batch[:1]))
     gate = _applicability_gate()
-    jobs = (
-        delayed(_scan_safely)(
-            batch[s : s + chunk_size],
-            loop_types[s : s + chunk_size],
-            learned,
-            rules,
-            None if ts is None else ts[s : s + chunk_size],
-            gate,
-        )
-        for s in range(0, n, chunk_size)
-    )
-    parts = []
+    starts = range(0, n, chunk_size)
+    units = [
+        (batch[s : s + chunk_size], loop_types[s : s + chunk_size],
+         None if ts is None else ts[s : s + chunk_size])
+        for s in starts
+    ]
     with progress_bar(n, progress) as bar:
-        for part in Parallel(n_jobs=n_jobs, return_as="generator")(jobs):
-            parts.append(part)
-            bar.update(len(part))
+        parts = run_units(_scan_unit, units, (learned, rules, gate), n_jobs=n_jobs,
+                          client=client, bar=bar, sizes=[len(u[1]) for u in units])
     report = pd.concat(parts, ignore_index=True)[REPORT_COLUMNS]
     return join_meta(meta, report)
