@@ -272,10 +272,10 @@ def test_area_ratio_filter_and_min_cycles_are_used():
     assert AreaRatio(min_cycles=30).fit_transform(clean)[0, -1] == 0
     with pytest.raises(ValueError, match="min_cycles"):
         AreaRatio(min_cycles=0).fit(clean)
-    # by default three regular cycles make an oscillation (measured: two do not)
-    three = _asymmetric_loop(0.75, n_cycles=3)
-    assert AreaRatio().fit_transform(three)[0, -1] == 1
-    assert AreaRatio(min_cycles=4).fit_transform(three)[0, -1] == 0
+    # five regular cycles oscillate by default (min_cycles=3), not when six are required
+    five = _asymmetric_loop(0.75, n_cycles=5)
+    assert AreaRatio().fit_transform(five)[0, -1] == 1
+    assert AreaRatio(min_cycles=6).fit_transform(five)[0, -1] == 0
 
 
 def test_loops_that_do_not_oscillate_are_said_so():
