@@ -14,7 +14,7 @@ Usage::
     python benchmarks/realism_gap.py --speed        # loop_statistics time per loop
 
 ``--hidden N`` repeats the design of ``tests/test_realism.py`` over N draws per check (a
-recording effect hidden in 20 classic-world loops compared with 20 others; pairs; nothing
+recording effect hidden in 16 loops of 400 samples compared with 16 others; pairs; nothing
 hidden) in the classic and the default world, and prints the rates.
 
 Loops are simulated with 751 samples, the plant windows' length (the ISDB loops are longer;
@@ -70,7 +70,7 @@ def _draw(name, rng):
     }[name]()  # fmt: skip
 
 
-def hidden_rates(n_draws, world, n_loops=20, n_samples=500):
+def hidden_rates(n_draws, world, n_loops=16, n_samples=400):
     """Rates of the hidden-effect checks of tests/test_realism.py over more draws."""
     import itertools
 
