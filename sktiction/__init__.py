@@ -6,6 +6,7 @@ Loops are arrays ``(n_loops, n_samples, 3)`` with channels PV, OP, SP.
 
 from .classifiers import (
     AreaRatioClassifier,
+    LearnedStictionClassifier,
     ShapeLibraryClassifier,
     make_learned_classifier,
     pretrained_classifier,
@@ -14,6 +15,7 @@ from .features import (
     AreaRatio,
     LoopDescriptors,
     OscillationFeatures,
+    PVOPHysteresis,
     StictionModelFit,
     TemplateDistances,
     cycle_table,
@@ -32,4 +34,6 @@ __all__ = [
     "cycle_table",
     "make_learned_classifier",
     "pretrained_classifier",
+    "LearnedStictionClassifier",
+    "PVOPHysteresis",
 ]
