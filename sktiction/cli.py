@@ -46,6 +46,13 @@ TABLE_COLUMNS = [
 ]
 
 
+EXIT_CODES = (
+    "Exit codes: 0 all files read and scanned (a loop may still get no_verdict, with its "
+    "reason); 1 some files or loops could not be read (each named with its reason); 2 usage "
+    "error, missing path, or no file readable (before any model is trained or loaded)."
+)
+
+
 class UsageError(Exception):
     """A problem the user can fix on the command line (exit code 2)."""
 
@@ -393,9 +400,7 @@ def build_parser():
     parser = argparse.ArgumentParser(
         prog="sktiction",
         description="Is this control loop oscillating because its valve sticks?",
-        epilog="Exit codes: 0 all files read and scanned; 1 some files or loops could not "
-               "be read (each named with its reason); 2 usage error, missing path, or no "
-               "file readable (before any model is trained).",
+        epilog=EXIT_CODES,
     )
     sub = parser.add_subparsers(dest="command", required=True)
     demo = sub.add_parser("demo", help="scan the example loops shipped with sktiction "
@@ -403,7 +408,10 @@ def build_parser():
     demo.add_argument("--report", default="sktiction_demo.html",
                       help="HTML report to write (default: %(default)s; '' for none)")
     demo.set_defaults(func=_demo)
-    scan = sub.add_parser("scan", help="scan historian exports or CSV files")
+    scan = sub.add_parser("scan", help="scan historian exports or CSV files",
+                          description="Scan every loop file under PATHS: one row per loop "
+                          "(and per file that could not be read, with the reason).",
+                          epilog=EXIT_CODES)
     scan.add_argument("paths", nargs="+", help="files or folders")
     scan.add_argument("-o", "--output", help="write the full report to this file")
     scan.add_argument("--format", choices=FORMATS, default=None,
