@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pandas as pd
+from scipy.fft import irfft, next_fast_len, rfft
 
 from .._validation import OP, PV, SP, check_loops
 
@@ -117,9 +118,9 @@ def _acf(x, max_lag, demean=True):
         r = np.array([x[: n - k] @ x[k:] for k in range(min(max_lag, n - 1) + 1)])
         r = np.concatenate([r, np.zeros(max_lag + 1 - len(r))])
         return r / r[0] if r[0] > 0 else np.full(max_lag + 1, np.nan)
-    nfft = 1 << int(np.ceil(np.log2(2 * n)))
-    f = np.fft.rfft(x, nfft)
-    r = np.fft.irfft(f * np.conj(f), nfft)[: max_lag + 1]
+    nfft = next_fast_len(2 * n, real=True)
+    f = rfft(x, nfft)
+    r = irfft(f * np.conj(f), nfft)[: max_lag + 1]
     return r / r[0] if r[0] > 0 else np.full(max_lag + 1, np.nan)
 
 
@@ -131,8 +132,8 @@ def _xcorr(a, b, max_lag):
     den = np.sqrt((a @ a) * (b @ b))
     if den == 0:
         return np.full(2 * max_lag + 1, np.nan)
-    nfft = 1 << int(np.ceil(np.log2(2 * n)))
-    r = np.fft.irfft(np.fft.rfft(a, nfft) * np.conj(np.fft.rfft(b, nfft)), nfft)
+    nfft = next_fast_len(2 * n, real=True)
+    r = irfft(rfft(a, nfft) * np.conj(rfft(b, nfft)), nfft)
     return np.concatenate([r[nfft - max_lag :], r[: max_lag + 1]]) / den
 
 
@@ -183,22 +184,25 @@ def _median3(a, b, c):
 
 
 def _despike(x, span):
-    """Replace spikes by their 3-point median; return (clean signal, spike sizes / span).
+    """Replace spikes by their 3-point median.
+
+    Returns the clean signal, the spike sizes (share of the span) and the noise sd when no
+    spike was found (None otherwise: the clean signal's noise must be measured again).
 
     A spike departs from its 3-point median by more than 8 noise sd and 20 % of the span.
     Steps (holds, setpoint moves, slips) survive a 3-point median, so they do not count.
     """
     if len(x) < 3 or span <= 0:
-        return x, np.empty(0)
+        return x, np.empty(0), None
     med = _median3(x[:-2], x[1:-1], x[2:])
     dev = np.abs(x[1:-1] - med)
     noise = _noise_sd(x, np.diff(x) == 0)
     hit = dev > max(_SPIKE_NOISE_SD * noise, _SPIKE_SPAN * span)
     if not hit.any():
-        return x, np.empty(0)
+        return x, np.empty(0), noise
     clean = x.copy()
     clean[1:-1][hit] = med[hit]
-    return clean, dev[hit] / span
+    return clean, dev[hit] / span, None
 
 
 def _runs(same):
@@ -354,12 +358,13 @@ def _one_loop(x, ts):
         return row
     # spikes first, so that one glitch does not break a frozen run or pass for a grid level
     pv_span = _span(pv)
-    pv, spikes = _despike(pv, pv_span)
+    pv, spikes, pv_noise = _despike(pv, pv_span)
     spikes = [spikes]
     err = pv - sp if has_sp else pv
     err_span = _span(err)
     same_pv, pv_rep, pv_reuse = _repeats_and_reuse(pv)
-    pv_noise = _noise_sd(pv, same_pv)
+    if pv_noise is None:
+        pv_noise = _noise_sd(pv, same_pv)
     row.update(pv_span=pv_span, error_span=err_span, pv_noise=pv_noise)
     row["noise_level"] = pv_noise / err_span if err_span > 0 else np.nan
 
@@ -379,10 +384,11 @@ def _one_loop(x, ts):
 
     if has_op and not np.isnan(op).any():
         op_span = _span(op)
-        op, op_spikes = _despike(op, op_span)
+        op, op_spikes, op_noise = _despike(op, op_span)
         spikes.append(op_spikes)
         same_op, op_rep, op_reuse = _repeats_and_reuse(op)
-        op_noise = _noise_sd(op, same_op)
+        if op_noise is None:
+            op_noise = _noise_sd(op, same_op)
         row.update(op_span=op_span, op_noise=op_noise, op_repeat_fraction=op_rep)
         row["op_level_reuse"] = op_reuse
         row["op_noise_level"] = op_noise / op_span if op_span > 0 else np.nan
