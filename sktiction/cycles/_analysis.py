@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numba import njit
 from scipy.fft import irfft
 
-from ._oscillation import _components, _power_spectrum
+from ._oscillation import SCORE_SCALE, _components, _power_spectrum
 from ._signal import (
     dominant_period,
     first_lobe,
@@ -21,6 +21,11 @@ from ._signal import (
 #: Thornhill et al. (2003): an oscillation is regular when the mean interval between
 #: alternate zero crossings exceeds three times its standard deviation (r > 1).
 REGULARITY_THRESHOLD = 1.0
+#: Score (see :func:`~sktiction.cycles.detect_oscillations`) added to a component when
+#: the time-domain cycles of its period are regular (r > 1) and the first ACF peak of
+#: the signal exceeds :data:`CONFIRM_ACF`: two independent readings of one cycle.
+CYCLE_EVIDENCE = 0.5
+CONFIRM_ACF = 0.2
 
 
 @dataclass
@@ -51,7 +56,8 @@ class CycleAnalysis:
         Height of the first ACF peak (0-1).
     oscillating : bool
         Whether the signal oscillates: some component of
-        :func:`~sktiction.cycles.detect_oscillations` has an index above 0.5.
+        :func:`~sktiction.cycles.detect_oscillations` has an index above 0.5 (after
+        the time-domain confirmation described in :func:`analyze_cycles`).
     oscillation_index : float
         Largest index of the components (0-1; 0.5 is the decision threshold).
     periods : ndarray of float
@@ -156,6 +162,23 @@ def _segments(centred, crossings, peaks, kept):
     return out
 
 
+def _set_detection(analysis, components, threshold, min_acf):
+    """Fill the detection fields of ``analysis`` from the components."""
+    found = [c for c in components if c.index > threshold]
+    analysis.components = components
+    analysis.oscillating = bool(found) and analysis.acf_strength >= min_acf
+    analysis.oscillation_index = max((c.index for c in components), default=0.0)
+    analysis.periods = np.array([c.period for c in found])
+    analysis.regularities = np.array([c.regularity for c in found])
+
+
+def _with_evidence(component, extra):
+    """``component`` with ``extra`` added to its score (the index's logit scale)."""
+    i = min(max(component.index, 1e-12), 1 - 1e-12)
+    score = np.log(i / (1 - i)) + extra / SCORE_SCALE
+    return replace(component, index=float(1 / (1 + np.exp(-score))))
+
+
 def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
                    threshold=0.5):
     """Detect and time-localise the oscillation of one signal, cycle by cycle.
@@ -179,6 +202,12 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     lie within ``tolerance`` of their local median (the cycle and two neighbours
     either side) are the oscillating segments. ``period`` and ``regularity`` (Thornhill's
     r, :data:`REGULARITY_THRESHOLD`) describe the cycles in segments.
+
+    Both readings are combined: when the cycles in segments are regular (r > 1) and
+    the first ACF peak exceeds :data:`CONFIRM_ACF`, the component of their period
+    gets :data:`CYCLE_EVIDENCE` added to its score (so a record of three to six
+    clean slow cycles, which the spectrum alone cannot tell from a random walk, is
+    still found), and the decision is read again.
 
     Parameters
     ----------
@@ -228,14 +257,6 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
         main = max(found, key=lambda c: c.share)
         if not (np.isfinite(p0) and any(abs(np.log(p0 / c.period)) < 0.25 for c in found)):
             p0 = main.period
-    detection = dict(
-        acf_strength=strength,
-        oscillating=bool(found) and strength >= min_acf,
-        oscillation_index=max((c.index for c in components), default=0.0),
-        periods=np.array([c.period for c in found]),
-        regularities=np.array([c.regularity for c in found]),
-        components=components,
-    )
     centred = remove_mean(x, p0)
     # smoothing for crossings and peaks, as wide as the noise needs and at most a
     # tenth of a period (which keeps shapes); none on clean signals, so peaks stay put
@@ -247,7 +268,8 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     h = max(hysteresis * sigma / np.sqrt(width), 1e-12 * max(np.ptp(centred), 1e-300))
     crossings, signs = schmitt_crossings(smooth, h)
     peaks = _peaks(centred, smooth, crossings, signs, width)
-    analysis = CycleAnalysis(centred, smooth, crossings, signs, peaks, **detection)
+    analysis = CycleAnalysis(centred, smooth, crossings, signs, peaks, acf_strength=strength)
+    _set_detection(analysis, components, threshold, min_acf)
     if crossings.size < 3:
         return analysis
     periods = crossings[2:] - crossings[:-2]  # full cycle starting at crossing k
@@ -270,4 +292,10 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     analysis.segments = segments
     analysis.period = float(np.median(p))
     analysis.regularity = float(regularity)
+    if regularity > REGULARITY_THRESHOLD and strength > CONFIRM_ACF and CYCLE_EVIDENCE > 0:
+        # regular cycles in the time domain confirm the component of their period
+        boosted = [_with_evidence(c, CYCLE_EVIDENCE)
+                   if abs(np.log(c.period / analysis.period)) < 0.25 else c
+                   for c in analysis.components]
+        _set_detection(analysis, boosted, threshold, min_acf)
     return analysis
