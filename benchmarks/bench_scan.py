@@ -16,7 +16,8 @@ others 6 or 12 hours), over ``--runs`` runs (min / median / max, the machine is 
 Goal (issue 10): 5,000 loops in < 2 min on 2 cores (<= 24 ms wall per loop).
 
 Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_scan.py --n-loops 500 --n-jobs 2
-(``--skip-cli``, ``--skip-slope``, ``--skip-memory``, ``--skip-stages`` leave parts out).
+(``--skip-stream``, ``--skip-cli``, ``--skip-slope``, ``--skip-memory``, ``--skip-stages``
+leave parts out).
 """
 
 from __future__ import annotations
@@ -220,7 +221,9 @@ def main():
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--workdir", default=os.path.join(tempfile.gettempdir(),
                                                           "sktiction_bench_scan"))
-    for part in ("cli", "slope", "memory", "stages"):
+    parser.add_argument("--model", help="a fitted classifier saved with joblib (default: "
+                        "pretrained_classifier())")
+    for part in ("stream", "cli", "slope", "memory", "stages"):
         parser.add_argument(f"--skip-{part}", action="store_true")
     args = parser.parse_args()
     work = Path(args.workdir)
@@ -237,23 +240,28 @@ def main():
     from sktiction import pretrained_classifier
 
     t0 = time.perf_counter()
-    clf = pretrained_classifier()
-    print(f"pretrained_classifier() here: {time.perf_counter() - t0:.1f} s")
+    if args.model:
+        clf = joblib.load(args.model)
+    else:
+        clf = pretrained_classifier()
+        print(f"pretrained_classifier() here: {time.perf_counter() - t0:.1f} s")
     model = work / "model.joblib"
     joblib.dump(clf, model)
-    walls, rss, scans, loads, info = bench_stream([site], args.n_jobs, args.chunk_size,
-                                                  args.runs, model)
-    n = info["rows"]
-    print(f"\nscan_files, n_jobs={args.n_jobs}, {args.runs} runs (min / median / max):")
-    print(f"  rows {n} ({info['ok']} status ok)")
-    print(f"  imports + model file load      {stats(loads)} s")
-    print(f"  scan wall                      {stats(scans)} s")
-    print(f"  ms per loop (wall)             {stats(1e3 * np.array(scans) / n)}   goal <= 24")
-    print(f"  loops/s                        {stats(n / np.array(scans))}")
-    print(f"  5,000 loops would take         {stats(5000 * np.array(scans) / n / 60)} min"
-          "   goal < 2")
-    print(f"  whole process wall             {stats(walls)} s")
-    print(f"  peak RSS of the process tree   {stats(rss)} MiB")
+    n = args.n_loops
+    if not args.skip_stream:
+        walls, rss, scans, loads, info = bench_stream([site], args.n_jobs, args.chunk_size,
+                                                      args.runs, model)
+        n = info["rows"]
+        print(f"\nscan_files, n_jobs={args.n_jobs}, {args.runs} runs (min / median / max):")
+        print(f"  rows {n} ({info['ok']} status ok)")
+        print(f"  imports + model file load      {stats(loads)} s")
+        print(f"  scan wall                      {stats(scans)} s")
+        print(f"  ms per loop (wall)             {stats(1e3 * np.array(scans) / n)}   goal <= 24")
+        print(f"  loops/s                        {stats(n / np.array(scans))}")
+        print(f"  5,000 loops would take         {stats(5000 * np.array(scans) / n / 60)} min"
+              "   goal < 2")
+        print(f"  whole process wall             {stats(walls)} s")
+        print(f"  peak RSS of the process tree   {stats(rss)} MiB")
 
     if not args.skip_cli:
         cli_walls, cli_rss = [], []
