@@ -240,14 +240,15 @@ def _prepare(x):
         return REASON_NO_OP, None
     if np.isnan(pv).any() or np.isnan(op).any():
         return STATUS_NAN_GAP, None
+    # exact comparisons: the sd of a constant is not always exactly 0 in floating point
+    if (pv == pv[0]).all():
+        return REASON_CONSTANT_PV, None
+    if (op == op[0]).all():
+        return REASON_CONSTANT_OP, None
     with np.errstate(over="ignore", invalid="ignore"):
         pv_spread, op_spread = _robust_spread(pv), _robust_spread(op)
         if not (np.isfinite(pv_spread) and np.isfinite(op_spread)):
             return REASON_NOT_FINITE, None
-        if pv_spread == 0:
-            return REASON_CONSTANT_PV, None
-        if op_spread == 0:
-            return REASON_CONSTANT_OP, None
         centre = np.median(pv)
         out = np.stack([(pv - centre) / pv_spread, _normalise(op, op_spread),
                         (sp - centre) / pv_spread], axis=1)
