@@ -27,13 +27,13 @@ def _chromium():
     return path
 
 
-def _browse(page, tmp_path, *args):
+def _browse(page, tmp_path, *args, fragment=""):
     """Open ``page`` in headless Chromium; return (stdout, console lines)."""
     cmd = [
         _chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
         "--no-first-run", "--disable-background-networking", "--disable-component-update",
         "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}", "--enable-logging=stderr",
-        "--v=0", "--virtual-time-budget=10000", *args, page.resolve().as_uri(),
+        "--v=0", "--virtual-time-budget=10000", *args, page.resolve().as_uri() + fragment,
     ]
     run = subprocess.run(cmd, capture_output=True, text=True, timeout=120, check=False)
     assert run.returncode == 0, run.stderr[-2000:]
@@ -104,3 +104,16 @@ def test_console_check_can_fail(tmp_path):
     page.write_text("<html><body><script>noSuchFunction();</script></body></html>")
     _, console = _browse(page, tmp_path, "--dump-dom")
     assert any("noSuchFunction" in line for line in console)
+
+
+def test_table_sorts_in_the_browser(report_and_loops, tmp_path):
+    report, X = report_and_loops
+    page = write_html_report(report, X, path=tmp_path / "report.html")
+    header = re.search(r"<thead><tr>(.*?)</tr></thead>", page.read_text()).group(1)
+    column = re.findall(r"<th>(.*?)</th>", header).index("p(stiction)")
+    dom, console = _browse(page, tmp_path, "--dump-dom", fragment=f"#sort={column}")
+    assert console == []
+    body = dom[dom.index("<tbody>"):dom.index("</tbody>")]
+    order = [int(i) for i in re.findall(r'id="row-(\d+)"', body)]
+    # ascending probability (0.12, 0.71, 0.93), then the loops without one
+    assert order[:3] == [1, 2, 0] and sorted(order[3:]) == [3, 4]

@@ -49,7 +49,7 @@ tr.no_verdict td.verdict{color:#6b7280}
 """
 
 # Sort on click; numbers by their data-value. It also marks the page ready for tests.
-_JS = """
+_JS = r"""
 (function(){
   var table=document.getElementById('loops');
   var heads=table.tHead.rows[0].cells;
@@ -68,6 +68,9 @@ _JS = """
   }
   for(var i=0;i<heads.length;i++){(function(c){heads[c].addEventListener('click',
     function(){sortBy(c);});})(i);}
+  // a link ending in #sort=N opens the table sorted by column N (N counts from 0)
+  var m=/^#sort=(\d+)$/.exec(window.location.hash);
+  if(m&&+m[1]<heads.length){sortBy(+m[1]);}
   function check(){
     var pics=document.images, ok=0;
     for(var i=0;i<pics.length;i++){if(pics[i].complete&&pics[i].naturalWidth>0){ok++;}}
@@ -128,7 +131,8 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
                       title="sktiction report", max_figures=200, dpi=72):
     """Write a scan report as ONE self-contained HTML file people would rather read.
 
-    A sortable table of loops (click a header to sort: verdict, probability of
+    A sortable table of loops (click a header to sort, or open the file with
+    ``#sort=N`` to sort by column ``N``: verdict, probability of
     stiction, stiction size in % of valve travel, oscillation period, area ratio,
     status and reason), then for each loop a figure: the trend of PV, SP and OP
     with the detected cycles shaded and the matched OP/PV templates named on each
