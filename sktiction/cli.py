@@ -115,51 +115,6 @@ def _classifier():
     return pretrained_classifier(random_state=0, **kwargs)
 
 
-def _list_files(paths):
-    """Every file under the paths: DataFrame(path, supported, reason)."""
-    from . import datasets
-
-    lister = getattr(datasets, "list_loop_files", None)
-    if lister is not None:
-        return lister(paths)
-    from .datasets._measured import _expand_paths
-
-    files = _expand_paths(paths)
-    return pd.DataFrame(
-        {"path": [str(p) for p in files], "supported": True, "reason": ""}
-    )
-
-
-def _read_all(paths, ts, channels):
-    """Read every file: (X, meta) with one row per loop or unreadable file."""
-    from . import datasets
-
-    reader = getattr(datasets, "read_loop_file", None)
-    listing = _list_files(paths)
-    if reader is None:
-        data = datasets.read_loops(paths, ts=ts, channels=channels, on_error="skip")
-        return data.X, data.meta, listing
-    Xs, metas = [], []
-    for row in listing.itertuples():
-        if not row.supported:
-            metas.append(pd.DataFrame([{
-                "file": Path(row.path).name, "path": row.path, "tag": "",
-                "status": "unsupported", "reason": row.reason, "n_samples": 0,
-            }]))
-            Xs.append(np.full((1, 1, 3), np.nan))
-            continue
-        part = reader(row.path, channels=channels, ts=ts)
-        metas.append(part.meta)
-        Xs.append(part.X if len(part.X) else np.full((len(part.meta), 1, 3), np.nan))
-    if not metas:
-        return np.full((0, 1, 3), np.nan), pd.DataFrame(columns=["file", "status"]), listing
-    n = max(x.shape[1] for x in Xs)
-    X = np.concatenate(
-        [np.pad(x, ((0, 0), (0, n - x.shape[1]), (0, 0)), constant_values=np.nan) for x in Xs]
-    )
-    return X, pd.concat(metas, ignore_index=True), listing
-
-
 def _read_status(report):
     """Per-row reader status: ``ok`` or why the file or loop could not be read."""
     read = pd.Series("", index=report.index)
@@ -255,50 +210,34 @@ def _scan(args):
     missing = [p for p in args.paths if not Path(p).exists()]
     if missing:
         raise UsageError("no such file or folder: " + ", ".join(missing))
-    from . import datasets, reports
+    from .datasets import list_loop_files
+    from .reports import scan_files
 
-    streaming = hasattr(reports, "scan_files") and hasattr(datasets, "read_loop_file")
-    listing = _list_files(args.paths)
+    listing = list_loop_files(args.paths)
     if not listing["supported"].any():
         _print_table(listing.assign(file=listing["path"])[["file", "reason"]], file=sys.stderr)
         raise UsageError(f"no loop file found under {', '.join(args.paths)} (listed above).")
-    client = None
-    if args.scheduler and not streaming:
-        raise UsageError("--scheduler needs sktiction.reports.scan_files (not available "
-                         "in this version); drop --scheduler or use --n-jobs.")
-
     # Nothing readable means no model is trained or loaded at all.
-    X = None
-    if streaming:
-        readable, failures = _unreadable_table(listing, channels, args.ts)
-    else:
-        X, meta, _ = _read_all(args.paths, args.ts, channels)
-        readable = meta["status"].astype(str).eq("ok").any()
-        failures = meta.reindex(columns=["file", "tag", "status", "reason"]).fillna("")
+    readable, failures = _unreadable_table(listing, channels, args.ts)
     if not readable:
         _print_table(failures, file=sys.stderr)
         raise UsageError("no file could be read (reasons above).")
+    client = None
     if args.scheduler:
         try:
             from dask.distributed import Client
         except ImportError as exc:
             raise UsageError("--scheduler needs dask.distributed: pip install "
-                             "'dask[distributed]'.") from exc
+                             "'sktiction[dask]'.") from exc
         try:
             client = Client(args.scheduler, timeout=30)
         except (OSError, TimeoutError) as exc:
             raise UsageError(f"--scheduler: cannot reach {args.scheduler} ({exc}).") from exc
-
-    classifier = _classifier()
     try:
-        if streaming:
-            report = reports.scan_files(
-                args.paths, channels=channels, classifier=classifier, n_jobs=args.n_jobs,
-                client=client, progress=not args.quiet, ts=args.ts,
-            )
-        else:
-            report = reports.scan_loops(X, meta, classifier=classifier, n_jobs=args.n_jobs,
-                                        progress=not args.quiet)
+        report = scan_files(
+            args.paths, channels=channels, classifier=_classifier(), n_jobs=args.n_jobs,
+            client=client, progress=not args.quiet, ts=args.ts,
+        )
     finally:
         if client is not None:
             client.close()
@@ -308,8 +247,8 @@ def _scan(args):
     if args.report:
         from .reports.html import write_html_report
 
-        loops = _FileLoops(report, channels, args.ts) if streaming else X
-        write_html_report(report, loops, path=args.report, title="sktiction scan")
+        write_html_report(report, _FileLoops(report, channels, args.ts), path=args.report,
+                          title="sktiction scan")
         print(f"wrote the HTML report to {args.report}", file=sys.stderr)
     table = _console_table(report)
     _print_table(table)
