@@ -32,6 +32,7 @@ def test_intermittent_oscillation_is_localised(seed):
     x, on, period = intermittent(seed)
     a = analyze_cycles(x)
     assert a.oscillating
+    assert np.min(np.abs(a.periods - period)) < 0.05 * period  # the component's period
     found = np.zeros(x.size, dtype=bool)
     for start, end in a.segments:
         found[start:end] = True
