@@ -24,10 +24,11 @@ class OscillationComponent:
     prominence : float
         Spectral peak power over the spectrum's background at that frequency.
     coherence : float
-        ACF of the band-limited component at one period beyond what the band filter
-        alone gives white noise (0: noise, 1: a pure cycle).
+        Mean ACF peak of the band-limited component near one and two periods (about
+        0.05 for white noise, 1 for a pure cycle).
     share : float
-        Share of the high-passed signal's variance in the component's band.
+        Share of the detrended signal's power (above the slowest period searched) in
+        the component's band.
     """
 
     period: float
@@ -102,7 +103,7 @@ def detect_oscillations(
        weight ``exp(-(ln(f / f0) / bandwidth) ** 2)``, with the unbiased
        normalisation; its period is the mean interval between
        alternate zero crossings (Thornhill's Tp) and its regularity
-       r = mean(Tp) / (3 sd(Tp)) over the first ten such intervals.
+       r = mean(Tp) / (3 sd(Tp)), over the first 21 zero crossings.
     5. Coherence: the mean of the ACF peaks near one and two periods (one alone when
        two do not fit in 60 % of the record). A filter this wide leaves white noise
        an ACF of about 0.1 and 0 there; a cycle that keeps its phase keeps it near 1.
