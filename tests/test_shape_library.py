@@ -133,3 +133,79 @@ def test_stiction_size_is_the_op_peak_to_peak(loops):
     # 1 % noise on a 6 % swing: the measured peak-to-peak is within 10 % of it
     assert np.allclose(size, 2 * OP_AMPLITUDE, rtol=0.1), size
     assert report.loc[~sticky, "stiction_size_mean"].isna().all()
+
+
+REPORT_COLUMNS = {
+    "prediction", "score", "reason", "loop_type", "n_cycles", "n_sticky_cycles",
+    "stiction_size_mean", "stiction_size_max",
+}  # fmt: skip
+
+
+def test_diagnose_reports_its_documented_columns_consistently(loops):
+    clf = ShapeLibraryClassifier().fit(loops)
+    report = clf.diagnose(loops)
+    assert set(report.columns) == REPORT_COLUMNS
+    for c in ("prediction", "n_cycles", "n_sticky_cycles"):
+        assert report[c].dtype.kind == "i", c
+    # confidence = share of sticky cycles (Srinivasan et al. 2005, step 17)
+    assert np.allclose(report["score"], report["n_sticky_cycles"] / report["n_cycles"])
+    assert np.array_equal(clf.predict_proba(loops)[:, 1], report["score"].to_numpy(dtype=float))
+    size = clf.stiction_size(loops)
+    assert list(size.columns) == ["stiction_size_mean", "stiction_size_max"]
+    assert size.equals(report[["stiction_size_mean", "stiction_size_max"]])
+    # the default row is read off the PV shape, as loop_type="auto"
+    assert report.equals(ShapeLibraryClassifier(loop_type="auto").fit(loops).diagnose(loops))
+
+
+def test_confidence_and_cycle_thresholds_are_inclusive():
+    X = make_loop("triangular", "triangular", np.random.default_rng(2))[None]
+    report = ShapeLibraryClassifier(loop_type="level").fit(X).diagnose(X)
+    n = int(report.loc[0, "n_cycles"])
+    assert report.loc[0, "score"] == 1.0
+    # every cycle sticky: confidence 1 reaches min_confidence=1
+    assert ShapeLibraryClassifier(loop_type="level", min_confidence=1.0).fit(X).predict(X)[0] == 1
+    # exactly min_cycles cycles are enough; one more required gives no verdict
+    assert ShapeLibraryClassifier(loop_type="level", min_cycles=n).fit(X).predict(X)[0] == 1
+    few = ShapeLibraryClassifier(loop_type="level", min_cycles=n + 1).fit(X).diagnose(X)
+    assert few.loc[0, "prediction"] == 0 and few.loc[0, "score"] == 0
+    assert few.loc[0, "reason"] == "too_few_cycles"
+
+
+def test_a_loop_without_cycles_gets_no_row_of_the_library():
+    rng = np.random.default_rng(4)
+    noise = np.stack([20 + rng.standard_normal(1200), 50 + rng.standard_normal(1200),
+                      np.full(1200, 20.0)], axis=-1)[None]  # fmt: skip
+    for loop_type, shown in [("auto", "unknown"), ("flow", "flow")]:
+        report = ShapeLibraryClassifier(loop_type=loop_type).fit(noise).diagnose(noise)
+        assert report.loc[0, "reason"] == "not_oscillating"
+        assert report.loc[0, "loop_type"] == shown and report.loc[0, "prediction"] == 0
+        assert report.loc[0, "n_cycles"] == 0 and np.isnan(report.loc[0, "stiction_size_max"])
+
+
+def test_the_template_matcher_given_is_the_one_used(loops):
+    from sktiction import TemplateDistances
+
+    default = ShapeLibraryClassifier().fit(loops).cycle_table(loops)
+    coarse = ShapeLibraryClassifier(templates=TemplateDistances(n_points=8)).fit(loops)
+    table = coarse.cycle_table(loops)
+    assert not np.allclose(table["op_dist_triangular"], default["op_dist_triangular"])
+
+
+@pytest.mark.parametrize(
+    "params, match",
+    [
+        ({"loop_type": "steam"}, "loop_type must be one of"),
+        ({"min_confidence": 0.0}, r"min_confidence must be in \(0, 1\]"),
+        ({"min_confidence": 1.5}, r"min_confidence must be in \(0, 1\]"),
+        ({"min_cycles": 0}, "min_cycles must be an integer >= 1"),
+        ({"min_cycles": 2.5}, "min_cycles must be an integer >= 1"),
+    ],
+)
+def test_bad_parameters_are_named(loops, params, match):
+    with pytest.raises(ValueError, match=match):
+        ShapeLibraryClassifier(**params).fit(loops[:1])
+
+
+def test_boundary_parameters_are_accepted(loops):
+    for params in ({"min_confidence": 1.0}, {"min_cycles": 1}):
+        assert ShapeLibraryClassifier(**params).fit(loops[:1]).predict(loops[:1]).shape == (1,)
