@@ -65,21 +65,22 @@ def _wandering(rng, n, period, wander=0.15, amp_wander=0.2, shape="sine"):
 
 
 def _hold(rng, x, share):
-    """Historian repeats: each sample repeats the previous record with probability ``share``,
-    in runs (a record held over several samples), as compression and slow scans do."""
+    """Historian repeats: about ``share`` of the samples repeat the previous record, in
+    runs of 1-3 samples (a record held over several samples), as compression and slow
+    scans do. A run starts with probability q after a fresh sample; runs of mean length 2
+    hold 2q / (1 + 2q) of the samples, hence q."""
     n = x.size
-    out = x.copy()
     held = np.zeros(n, dtype=bool)
+    start = share / (2.0 * (1.0 - share))
     i = 1
     while i < n:
-        if rng.random() < share / 2.0:
+        if rng.random() < start:
             length = int(rng.integers(1, 4))
             held[i : i + length] = True
             i += length
         i += 1
     idx = np.maximum.accumulate(np.where(held, 0, np.arange(n)))
-    out = x[idx]
-    return out
+    return x[idx]
 
 
 def _quantise(x, step):
