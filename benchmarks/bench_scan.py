@@ -11,13 +11,14 @@ others 6 or 12 hours), over ``--runs`` runs (min / median / max, the machine is 
 - the log-log slope of cost against record length (1k to 80k samples) for every
   feature, the applicability check, the learned model and the whole scan (goal <= 1.1);
 - the share of a chunk's time per stage (read, cycle analyses, area-ratio rule, shape
-  library, learned model, applicability check, the rest).
+  library, learned model, applicability check, the rest);
+- the one-pass scan against the three classifiers run one by one (same report).
 
 Goal (issue 10): 5,000 loops in < 2 min on 2 cores (<= 24 ms wall per loop).
 
 Run: OPENBLAS_NUM_THREADS=1 python benchmarks/bench_scan.py --n-loops 500 --n-jobs 2
-(``--skip-stream``, ``--skip-cli``, ``--skip-slope``, ``--skip-memory``, ``--skip-stages``
-leave parts out).
+(``--skip-stream``, ``--skip-cli``, ``--skip-slope``, ``--skip-memory``, ``--skip-stages``,
+``--skip-share`` leave parts out).
 """
 
 from __future__ import annotations
@@ -213,6 +214,51 @@ def stage_shares(folder, classifier, n_files=64):
         print(f"  {k:<24} {100 * v / whole:5.1f} %   {1e3 * v / len(files):7.2f} ms/loop")
 
 
+def shared_pass(runs, n_loops=24):
+    """The one-pass scan against the three classifiers run one by one (the scan before
+    the shared analysis, kept as the reference in tests/test_scan.py), same report."""
+    import pandas as pd
+    from sklearn.ensemble import HistGradientBoostingClassifier
+    from sklearn.pipeline import FeatureUnion, Pipeline
+
+    from sktiction import AreaRatio, LoopDescriptors, StictionModelFit, TemplateDistances
+    from sktiction.datasets import make_loops
+    from sktiction.reports import scan as scan_module
+
+    sys.path.insert(0, str(Path(__file__).parents[1] / "tests"))
+    from test_scan import reference_scan
+
+    # a learned pipeline of the package's transformers, so that all three classifiers
+    # can share the analysis (a model that computes its own features cannot)
+    Xt, yt = make_loops(150, n_samples=1000, slip_fraction=0.25, random_state=0)
+    union = FeatureUnion([("area", AreaRatio()), ("templates", TemplateDistances()),
+                          ("descriptors", LoopDescriptors()), ("valve_model", StictionModelFit())])
+    model = HistGradientBoostingClassifier(max_iter=100, random_state=0)
+    clf = Pipeline([("features", union), ("model", model)]).fit(Xt, yt)
+    X, _ = make_loops(n_loops, n_samples=DAY, random_state=1)
+    types = np.array(["auto"] * n_loops, dtype=object)
+    gate = scan_module._applicability_gate
+    scan_module._applicability_gate = lambda: None  # like for like: the reference has none
+    try:
+        scan_module.scan_loops(X[:2], classifier=clf)
+        old, new = [], []
+        for _ in range(runs):
+            t0 = time.perf_counter()
+            expected = reference_scan(X, types, clf)
+            old.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            got = scan_module.scan_loops(X, classifier=clf)
+            new.append(time.perf_counter() - t0)
+    finally:
+        scan_module._applicability_gate = gate
+    pd.testing.assert_frame_equal(got, expected, check_dtype=False)
+    old, new = np.array(old), np.array(new)
+    print(f"\none pass vs the classifiers one by one ({n_loops} loops of {DAY} samples, "
+          "same report, one core):")
+    print(f"  one by one {stats(1e3 * old / n_loops)} ms per loop, one pass "
+          f"{stats(1e3 * new / n_loops)} ms per loop; ratio {stats(old / new)}")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n-loops", type=int, default=500)
@@ -223,7 +269,7 @@ def main():
                                                           "sktiction_bench_scan"))
     parser.add_argument("--model", help="a fitted classifier saved with joblib (default: "
                         "pretrained_classifier())")
-    for part in ("stream", "cli", "slope", "memory", "stages"):
+    for part in ("stream", "cli", "slope", "memory", "stages", "share"):
         parser.add_argument(f"--skip-{part}", action="store_true")
     args = parser.parse_args()
     work = Path(args.workdir)
@@ -288,6 +334,8 @@ def main():
 
     if not args.skip_stages:
         stage_shares(site, clf)
+    if not args.skip_share:
+        shared_pass(args.runs)
     if not args.skip_slope:
         slope_table(args.runs, clf)
 
