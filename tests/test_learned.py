@@ -56,12 +56,15 @@ def garbage_loops(n_per_kind, random_state):
     X, _ = make_loops(n_per_kind, n_samples=400, stiction_fraction=1.0, random_state=rng)
     snippets = np.full((n_per_kind, n, 3), np.nan)
     snippets[:, :50] = X[:, 100:150]  # 50-sample snippets of sticky loops
-    return np.concatenate([np.array(loops), snippets])
+    # PV and SP of one loop, OP of another: each realistic alone, unrelated together
+    pairs, _ = make_loops(n_per_kind, n_samples=n, short_fraction=0.0, random_state=rng)
+    pairs[:, :, 1] = np.roll(pairs[:, :, 1], 1, axis=0)
+    return np.concatenate([np.array(loops), pairs, snippets])
 
 
 def test_garbage_is_never_called_stiction(small_model):
     X = garbage_loops(50, random_state=SEED)
-    assert len(X) >= 200
+    assert len(X) >= 300
     report = small_model.diagnose(X)
     assert report["prediction"].sum() <= 1
     assert report.loc[report["in_domain"], "probability"].notna().all()
