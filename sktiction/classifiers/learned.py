@@ -8,8 +8,9 @@ when the first learned model met data it had not seen:
    size of the numbers cannot enter a feature, so a verdict never changes when a loop
    is scaled (even by 1e12) or shifted.
 2. **Features whose meaning carries over** from simulation to plants: area ratios,
-   template distances, cycle-free descriptors, the fitted valve model and the PV-OP
-   hysteresis (:class:`~sktiction.features.PVOPHysteresis`). Counts that grow with the
+   template distances, the fitted valve model and the PV-OP hysteresis
+   (:class:`~sktiction.features.PVOPHysteresis`, at the period and at OP's own time
+   scale, so loops without cycles have evidence too). Counts that grow with the
    record length are replaced by shares (a classifier must not read record length).
 3. **An explicit domain check** fitted on the training features: hard rules (enough
    samples, PV and OP related as in a closed loop, not mostly frozen rows) and per-
@@ -19,6 +20,11 @@ when the first learned model met data it had not seen:
    :class:`~sklearn.calibration.CalibratedClassifierCV`, so that ``p = 0.8`` means
    about 8 sticky loops in 10 among simulated loops like the training ones
    (``benchmarks/simulated_accuracy.py`` prints the reliability table and Brier score).
+
+:func:`pretrained_classifier` trains the default model once and keeps it in a user
+cache (:mod:`sktiction.classifiers._persistence`: why joblib, how a stale or corrupt
+entry is found and rebuilt). Time a fresh build with
+``SKTICTION_CACHE=$(mktemp -d) python -W ignore -m sktiction.classifiers.learned``.
 """
 
 from __future__ import annotations
