@@ -209,3 +209,28 @@ def test_bad_parameters_are_named(loops, params, match):
 def test_boundary_parameters_are_accepted(loops):
     for params in ({"min_confidence": 1.0}, {"min_cycles": 1}):
         assert ShapeLibraryClassifier(**params).fit(loops[:1]).predict(loops[:1]).shape == (1,)
+
+
+def test_loops_without_a_verdict_carry_no_evidence():
+    rng = np.random.default_rng(0)
+    X = np.stack([make_loop("triangular", "triangular", rng) for _ in range(4)])
+    X[1, 300:340] = np.nan  # gap inside the record
+    X[2, :, 1] = 40.0  # OP stuck
+    X[3] = np.stack([20 + rng.standard_normal(X.shape[1]), 50 + rng.standard_normal(X.shape[1]),
+                     np.full(X.shape[1], 20.0)], axis=-1)  # fmt: skip
+    report = ShapeLibraryClassifier().fit(X).diagnose(X)
+    assert report["reason"].tolist()[:2] == ["ok", "nan_gap"]
+    assert "constant" in report.loc[2, "reason"] and report.loc[3, "reason"] == "not_oscillating"
+    assert report.loc[3, "loop_type"] == "unknown"
+    evidence = report.loc[1:, ["prediction", "score", "n_cycles", "n_sticky_cycles"]]
+    assert (evidence == 0).all().all()
+    assert report.loc[1:, "stiction_size_max"].isna().all()
+
+
+def test_cycle_table_of_a_batch_without_cycles_is_empty_with_the_verdict_columns():
+    rng = np.random.default_rng(5)
+    noise = np.stack([20 + rng.standard_normal(1200), 50 + rng.standard_normal(1200),
+                      np.full(1200, 20.0)], axis=-1)[None]  # fmt: skip
+    table = ShapeLibraryClassifier().fit(noise).cycle_table(noise)
+    assert len(table) == 0 and {"loop_type", "sticky"} <= set(table.columns)
+    assert table["sticky"].dtype == bool
