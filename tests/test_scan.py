@@ -209,3 +209,19 @@ def test_scans_on_a_dask_cluster_give_the_local_report(site, small_learned):
         in_memory = scan_loops(X, meta, classifier=small_learned, chunk_size=6, client=client)
     pd.testing.assert_frame_equal(remote, local)
     pd.testing.assert_frame_equal(in_memory, scan_loops(X, meta, classifier=small_learned))
+
+
+def test_the_model_runs_in_one_process_inside_the_scan_workers(small_learned, no_gate):
+    from sklearn.base import clone
+
+    from sktiction.reports.scan import LearnedAdapter
+
+    parallel = clone(small_learned).set_params(features__n_jobs=2)
+    X, _ = make_loops(3, n_samples=1500, random_state=3)
+    y = np.array([0, 1, 0])
+    parallel.fit(np.concatenate([X] * 4), np.tile(y, 4))
+    adapter = LearnedAdapter(parallel)
+    assert adapter.classifier.get_params()["features__n_jobs"] == 1
+    assert parallel.get_params()["features__n_jobs"] == 2  # the caller's model is untouched
+    np.testing.assert_array_equal(scan_loops(X, classifier=parallel)["stiction_probability"],
+                                  parallel.predict_proba(X)[:, 1])

@@ -8,6 +8,8 @@ computed twice.
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pandas as pd
 from joblib import Parallel, delayed
@@ -68,6 +70,25 @@ def _shared_features(est, loops, analyses, status):
     return None
 
 
+def _one_process(classifier):
+    """A copy of ``classifier`` with every ``n_jobs`` parameter set to 1.
+
+    The scan already spreads chunks over workers; a model with workers of its own
+    would start more processes in each of them (more memory, cores oversubscribed).
+    The verdicts do not change: the model's parallel work is over loops.
+    """
+    try:
+        params = classifier.get_params(deep=True)
+    except (AttributeError, TypeError):
+        return classifier
+    single = {k: 1 for k, v in params.items() if k.split("__")[-1] == "n_jobs" and v != 1}
+    if not single:
+        return classifier
+    classifier = copy.deepcopy(classifier)
+    classifier.set_params(**single)
+    return classifier
+
+
 class LearnedAdapter:
     """The scan's one way to ask a learned classifier, whatever it is.
 
@@ -88,7 +109,7 @@ class LearnedAdapter:
     """
 
     def __init__(self, classifier):
-        self.classifier = classifier
+        self.classifier = _one_process(classifier)
 
     def predict(self, loops, analyses, status):
         """Stiction probability per loop, and the model's reason where it abstains.
