@@ -270,7 +270,7 @@ def _demo(args):
     meta["tag"] = ""
     truth = data.y.astype(bool)
     try:
-        from .datasets._plant_examples import load_plant_examples
+        from .datasets import load_plant_examples
 
         plant = load_plant_examples()
     except (ImportError, FileNotFoundError):

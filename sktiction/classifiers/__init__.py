@@ -1,5 +1,6 @@
 """Decisions: the shape library, the area-ratio rule and a learned classifier."""
 
+from .applicability import assess_applicability
 from .area_ratio import AreaRatioClassifier
 from .learned import (
     LearnedStictionClassifier,
@@ -14,6 +15,7 @@ __all__ = [
     "AreaRatioClassifier",
     "ShapeLibraryClassifier",
     "LearnedStictionClassifier",
+    "assess_applicability",
     "make_learned_classifier",
     "make_loop_features",
     "pretrained_classifier",

@@ -36,7 +36,7 @@ def load_plant_examples():
 
     Examples
     --------
-    >>> from sktiction.datasets._plant_examples import load_plant_examples
+    >>> from sktiction.datasets import load_plant_examples
     >>> data = load_plant_examples()
     >>> data.X.shape, int(data.y.sum())
     ((6, 751, 3), 2)
