@@ -6,4 +6,11 @@ from ._generators import make_loops
 from ._measured import list_loop_files, read_loop_file, read_loops
 from ._plant_examples import load_plant_examples
 
-__all__ = ["list_loop_files", "load_example", "load_plant_examples", "make_loops", "read_loop_file", "read_loops"]
+__all__ = [
+    "list_loop_files",
+    "load_example",
+    "load_plant_examples",
+    "make_loops",
+    "read_loop_file",
+    "read_loops",
+]
