@@ -147,7 +147,8 @@ def slope_table(runs, clf):
         for fn in stages.values():
             fn(X[:1])  # compile
     print(f"\ncost against record length {lengths} (ms per loop, median of {runs}):")
-    print(f"{'stage':<20}" + "".join(f"{n:>10}" for n in lengths) + "   log-log slope")
+    print(f"{'stage':<20}" + "".join(f"{n:>10}" for n in lengths)
+          + "   slope (all)  slope (last two)")
     for name, fn in stages.items():
         per = []
         for n in lengths:
@@ -159,7 +160,9 @@ def slope_table(runs, clf):
                 times.append((time.perf_counter() - t0) / len(X))
             per.append(np.median(times))
         slope = np.polyfit(np.log(lengths), np.log(per), 1)[0]
-        print(f"{name:<20}" + "".join(f"{1e3 * t:>10.2f}" for t in per) + f"   {slope:.2f}")
+        last = np.log(per[-1] / per[-2]) / np.log(lengths[-1] / lengths[-2])
+        print(f"{name:<20}" + "".join(f"{1e3 * t:>10.2f}" for t in per)
+              + f"   {slope:11.2f}  {last:16.2f}")
 
 
 def stage_shares(folder, classifier, n_files=64):
