@@ -331,3 +331,17 @@ def test_disturbances():
     assert step.tolist() == [0.0, 0.0, 0.0, -1.5, -1.5, -1.5]
     with pytest.raises(ValueError, match="period must exceed 2 ts"):
         NarrowbandDisturbance(1.0, 1.5).signals(10, 1.0, rng)
+
+
+def test_slip_visibility_follows_the_noise(world):
+    _, _, meta = world
+    assert meta.loc[meta["y"] == 0, "slip_snr"].isna().all()
+    assert not meta.loc[meta["y"] == 0, "stiction_visible"].any()
+    assert np.array_equal(meta["stiction_visible"], meta["slip_snr"] >= 1.0)
+    # the same loops under 30-40 dB and under 0-2 dB of noise: slips drown in the latter
+    kw = dict(stiction_fraction=1.0, recording=(), random_state=1, return_meta=True)
+    _, _, quiet = make_loops(30, 600, snr_db_range=(30.0, 40.0), **kw)
+    _, _, noisy = make_loops(30, 600, snr_db_range=(0.0, 2.0), **kw)
+    assert quiet["stiction_visible"].mean() > 0.9
+    assert noisy["stiction_visible"].mean() < quiet["stiction_visible"].mean()
+    assert quiet["slip_snr"].median() > 10 * noisy["slip_snr"].median()

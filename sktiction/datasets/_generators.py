@@ -494,6 +494,7 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
                 "apparent_time_constant": tau,
                 "apparent_delay": Lapp,
                 "lambda": lam,
+                "pv_per_valve": g,
                 "valve": getattr(valve, "name", "linear"),
                 "S": S,
                 "J": J,
@@ -544,6 +545,30 @@ def _slips(valve, lengths):
     return starts.sum(axis=1)
 
 
+# a slip whose PV effect is below one noise standard deviation cannot be seen in the record
+_VISIBLE_SLIP_SNR = 1.0
+
+
+def _slip_snr(pv, valve, length, pv_per_valve, snr_db):
+    """Median PV change of a valve slip over the PV noise's standard deviation.
+
+    A slip is the first sample of each run of valve movement; its PV change is taken as
+    the plant's gain (for an integrating plant, the PV change while the delay and time
+    constant pass) times the jump. The noise's standard deviation follows from the SNR,
+    which is relative to the noise-free PV's spread: ``sd(PV) / sqrt(1 + 10^(snr/10))``.
+    """
+    v = valve[:length]
+    step = np.abs(np.diff(v))
+    moving = step > 1e-9
+    starts = moving.copy()
+    starts[1:] &= ~moving[:-1]
+    if not starts.any():
+        return 0.0
+    jump = float(np.median(step[starts]))
+    noise_sd = float(np.nanstd(pv[:length])) / np.sqrt(1.0 + 10.0 ** (snr_db / 10.0))
+    return jump * pv_per_valve / noise_sd if noise_sd > 0 else np.inf
+
+
 def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
     """Draw and simulate the default world; sticky loops whose valve never slips in the
     record (a band wider than anything OP does there) are drawn again."""
@@ -566,6 +591,13 @@ def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
             records[i], rows[i] = rec[k], row[k]
         slips = _slips(valve[todo, n_warm:], [r[3] for r in rec])
         sticky = np.array([labels[i] == "stiction" for i in todo])
+        for k, i in enumerate(todo):
+            rows[i]["slip_snr"] = (
+                _slip_snr(res.X[k, n_warm:, 0], valve[i, n_warm:], rec[k][3],
+                          rows[i]["pv_per_valve"], rows[i]["snr_db"])
+                if sticky[k] else np.nan
+            )  # fmt: skip
+            rows[i]["stiction_visible"] = bool(rows[i]["slip_snr"] >= _VISIBLE_SLIP_SNR)
         todo = todo[sticky & (slips < _MIN_SLIPS)]
         if len(todo) == 0:
             break
@@ -791,7 +823,11 @@ def make_loops(
         ``gain_margin``, ``samples_per_ultimate_period``, ``noise_colour``,
         ``noise_path``, ``drift``, ``disturbance``, ``setpoint_regime``,
         ``recording``, ``record_length``, ``initial_op``, ``pv_scale``,
-        ``pv_center``, ``warmup``.
+        ``pv_center``, ``warmup``, ``pv_per_valve`` (PV change of a unit valve move:
+        the plant's gain, for an integrating plant over its delay and time constant),
+        ``slip_snr`` (sticky loops: median PV change of a valve slip over the PV
+        noise's standard deviation; NaN otherwise) and ``stiction_visible`` (True when
+        ``slip_snr >= 1``: the slips can be seen above the noise).
 
     Examples
     --------
