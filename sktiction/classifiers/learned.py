@@ -66,6 +66,9 @@ OUT_OF_DOMAIN = "out_of_domain"
 # Feature columns that count things and so grow with the record length: replaced
 # by the share of the record that oscillates.
 _LENGTH_COUNTS = ("area__n_half_cycles", "templates__n_cycles")
+# The one feature column in OP units (all others are ratios within a signal): what
+# diagnose_analysed rescales when it reads features from loops that are not normalised.
+_OP_UNIT_FEATURES = ("valve_model__stiction_fit_band",)
 # Statistics checked by the domain rules but not given to the model.
 DOMAIN_STATISTICS = ("pv_op_coupling", "pv_op_coupling_white", "frozen_share")
 # A coupling z below _WEAK_COUPLING must also hold after prewhitening (z >= _MIN_WHITE):
@@ -128,6 +131,13 @@ def _robust_spread(x):
     return np.where(spread > 0, spread, 1.0)
 
 
+def _centre_scale(x):
+    """Median and robust spread of each row of ``x``: what :func:`normalise_loops` uses."""
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN channels stay NaN
+        return np.nan_to_num(np.nanmedian(x, axis=1)), np.nan_to_num(_robust_spread(x), nan=1.0)
+
+
 def normalise_loops(loops):
     """Centre and scale each loop: PV and SP by PV's median and IQR, OP by its own.
 
@@ -153,12 +163,9 @@ def normalise_loops(loops):
     True
     """
     out = np.array(loops, dtype=float)
-    with np.errstate(all="ignore"), warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN channels stay NaN
-        pv_mid = np.nan_to_num(np.nanmedian(out[:, :, PV], axis=1))[:, None]
-        pv_scale = np.nan_to_num(_robust_spread(out[:, :, PV]), nan=1.0)[:, None]
-        op_mid = np.nan_to_num(np.nanmedian(out[:, :, OP], axis=1))[:, None]
-        op_scale = np.nan_to_num(_robust_spread(out[:, :, OP]), nan=1.0)[:, None]
+    pv_mid, pv_scale = _centre_scale(out[:, :, PV])
+    op_mid, op_scale = _centre_scale(out[:, :, OP])
+    pv_mid, pv_scale, op_mid, op_scale = (v[:, None] for v in (pv_mid, pv_scale, op_mid, op_scale))
     out[:, :, PV] = (out[:, :, PV] - pv_mid) / pv_scale
     out[:, :, SP] = (out[:, :, SP] - pv_mid) / pv_scale
     out[:, :, OP] = (out[:, :, OP] - op_mid) / op_scale
@@ -244,16 +251,19 @@ def pv_op_coupling(pv, op, sp=None, *, prewhiten=0):
     return float(stats.norm.isf(np.exp(max(log_p, -700.0))))
 
 
-def domain_statistics(loops):
+def domain_statistics(loops, status=None):
     """Per-loop statistics of the domain rules: ``pv_op_coupling`` (plain and
     ``_white``: prewhitened) and ``frozen_share``.
 
     ``frozen_share`` is the share of sample steps in which PV and OP both stay
     exactly the same (a historian holding its last value); NaN for loops that
-    :func:`~sktiction._validation.loop_status` rejects.
+    :func:`~sktiction._validation.loop_status` (with ``require_op=True``; pass it as
+    ``status`` when known) rejects. All three are unchanged when a channel is shifted
+    or scaled.
     """
     out = np.full((len(loops), len(DOMAIN_STATISTICS)), np.nan)
-    status = loop_status(loops, require_op=True)
+    if status is None:
+        status = loop_status(loops, require_op=True)
     for i, n in enumerate(loop_lengths(loops)):
         if status[i] != STATUS_OK:
             continue
@@ -573,6 +583,67 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         check_is_fitted(self, "model_")
         loops = validate_loops(self, X, reset=False)
         return self._diagnose_features(loops, self._features(normalise_loops(loops)))
+
+    def diagnose_analysed(self, loops, analyses, status=None):
+        """:meth:`diagnose` of checked loops from their shared, already made analyses.
+
+        A scan analyses each loop's raw signals once for all its classifiers
+        (:class:`~sktiction.features._loops.LoopAnalysis`); the features are read from
+        those analyses instead of analysing the normalised loops again. Normalising
+        shifts and scales each channel, and every feature is a ratio within one
+        signal (areas, shares, template distances after each cycle's RMS, residual
+        shares, F-tests) except the fitted band in OP units, which is divided by the
+        OP scale of :func:`normalise_loops`. The features so agree with
+        :meth:`diagnose`'s to rounding; a decision taken exactly on a threshold (a
+        cycle period at the tolerance, a move at its limit, common on quantised
+        records) can still go either way, as it can for a shifted copy of a loop.
+
+        Parameters
+        ----------
+        loops : ndarray of shape (n_loops, n_samples, 3)
+            Checked loops (:func:`~sktiction._validation.check_loops`), not normalised.
+        analyses : list of LoopAnalysis
+            One per loop (:func:`~sktiction.features._loops.analyse_loops`), shared
+            with other users.
+        status : ndarray of str or None, default=None
+            :func:`~sktiction._validation.loop_status` with ``require_op=True``, if known.
+
+        Returns
+        -------
+        report : pandas.DataFrame
+            As :meth:`diagnose`.
+
+        Examples
+        --------
+        >>> from sktiction._validation import check_loops
+        >>> from sktiction.classifiers import LearnedStictionClassifier
+        >>> from sktiction.datasets import make_loops
+        >>> from sktiction.features._loops import analyse_loops
+        >>> X, y = make_loops(40, n_samples=1000, random_state=0)
+        >>> clf = LearnedStictionClassifier(max_iter=30, random_state=0).fit(X, y)
+        >>> loops = check_loops(X[:3])
+        >>> shared = clf.diagnose_analysed(loops, analyse_loops(loops))
+        >>> bool((shared["in_domain"] == clf.diagnose(loops)["in_domain"]).all())
+        True
+        """
+        check_is_fitted(self, "model_")
+        if status is None:
+            status = loop_status(loops, require_op=True)
+        union = make_loop_features().fit(loops[:1])
+        with threadpool_limits(limits=1):  # tiny least-squares fits: see _ONE_THREAD
+            parts = [
+                est.transform_analysed(loops, analyses, status if est._needs_op else None)
+                for _, est in union.transformer_list
+            ]
+            parts.append(domain_statistics(loops, status))
+        names = list(union.get_feature_names_out()) + list(DOMAIN_STATISTICS)
+        raw = pd.DataFrame(np.hstack(parts), columns=names)
+        _, op_scale = _centre_scale(loops[:, :, OP])
+        for name in _OP_UNIT_FEATURES:  # in the normalised OP units the model learned
+            raw[name] = raw[name] / op_scale
+        feats = self._model_columns(raw, loop_lengths(loops))
+        feats = pd.concat([feats, raw[list(DOMAIN_STATISTICS)]], axis=1)
+        return self._diagnose_features(loops, feats)
 
     def predict_proba(self, X):
         """Calibrated class probabilities; NaN rows for loops outside the model's domain.
