@@ -9,6 +9,7 @@ import warnings
 
 import numpy as np
 import pytest
+from sklearn.metrics import roc_auc_score
 from sklearn.model_selection import cross_val_score
 
 from sktiction.classifiers import LearnedStictionClassifier
@@ -24,9 +25,10 @@ SEED = 2024
 @pytest.fixture(scope="module")
 def small_model():
     # tens of loops: the guarantees under test come from the domain check and the
-    # normalisation, not from the amount of training data
+    # normalisation, not from the amount of training data (but with cv=2, each fold's
+    # 40 loops gave one constant probability: nothing ranked, nothing to compare)
     X, y = make_loops(80, n_samples=1000, random_state=SEED)
-    return LearnedStictionClassifier(max_iter=60, cv=2, random_state=0).fit(X, y)
+    return LearnedStictionClassifier(max_iter=60, cv=3, random_state=0).fit(X, y)
 
 
 def _hold(x, rng, repeat):
@@ -119,6 +121,16 @@ def test_probabilities_are_probabilities_and_predict_follows_them(small_model):
     pred = small_model.predict(X)
     assert np.array_equal(pred[ok], (proba[ok, 1] >= 0.5).astype(int))
     assert np.all(pred[~ok] == 0)
+
+
+def test_probabilities_rank_held_out_loops(small_model):
+    # held-out classic-world loops with a clear band: ROC AUC 0.94-0.99 over seeds
+    # 2031-2033; a model whose probabilities ignore the loop scores 0.5
+    X, y = make_loops(40, n_samples=1000, world="classic", S_range=(4, 10), random_state=SEED + 7)
+    p = small_model.predict_proba(X)[:, 1]
+    ok = np.isfinite(p)
+    assert ok.sum() >= 30 and 0 < y[ok].sum() < ok.sum()
+    assert roc_auc_score(y[ok], p[ok]) >= 0.8
 
 
 def test_out_of_domain_names_the_feature(small_model):
