@@ -1,12 +1,17 @@
 """Per-cycle templates, DTW, and the TemplateDistances transformer (seed 001)."""
 
+from types import SimpleNamespace
+
 import numpy as np
 import pandas as pd
 import pytest
 from tslearn.metrics import dtw
 
 from sktiction import TemplateDistances, cycle_table
+from sktiction._validation import check_loops, loop_status
 from sktiction.features import paired_dtw
+from sktiction.features._loops import analyse_loops
+from sktiction.features.template_distances import _nearest_cycles
 from sktiction.features.templates import SHAPES, make_shape_cycles, match_cycles
 
 
@@ -14,8 +19,11 @@ from sktiction.features.templates import SHAPES, make_shape_cycles, match_cycles
 def test_paired_dtw_equals_tslearn(radius):
     rng = np.random.default_rng(radius or 0)
     A, B = rng.normal(size=(2, 30, 32))
-    kw = {} if radius is None else {"global_constraint": "sakoe_chiba",
-                                    "sakoe_chiba_radius": radius}
+    kw = (
+        {}
+        if radius is None
+        else {"global_constraint": "sakoe_chiba", "sakoe_chiba_radius": radius}
+    )
     expected = [dtw(a, b, **kw) for a, b in zip(A, B)]
     assert np.allclose(paired_dtw(A, B, sakoe_chiba_radius=radius), expected, atol=1e-9)
 
@@ -67,9 +75,21 @@ def test_transformer_finds_triangular_op_and_square_pv():
 
 def test_cycle_table_columns_and_peak_to_peak():
     table = cycle_table(_flow_loop()[None])
-    for col in ["loop", "cycle", "start", "end", "period", "amplitude_pos", "amplitude_neg",
-                "area_ratio", "op_shape", "pv_shape", "op_peak_to_peak", "op_dist_triangular",
-                "pv_dist_rectangular"]:
+    for col in [
+        "loop",
+        "cycle",
+        "start",
+        "end",
+        "period",
+        "amplitude_pos",
+        "amplitude_neg",
+        "area_ratio",
+        "op_shape",
+        "pv_shape",
+        "op_peak_to_peak",
+        "op_dist_triangular",
+        "pv_dist_rectangular",
+    ]:
         assert col in table.columns
     assert table["op_peak_to_peak"].median() == pytest.approx(3.0, rel=0.05)
     assert (table["end"] > table["start"]).all()
@@ -108,12 +128,139 @@ def test_feature_names_and_pandas_output():
 
 @pytest.mark.parametrize(
     "params, match",
-    [({"n_points": 4}, "n_points"), ({"signals": ("op", "sp")}, "signals"),
-     ({"dtw_backend": "cuda"}, "dtw_backend"), ({"sakoe_chiba_radius": -2}, "radius")],
-)
+    [({"n_points": 4}, "n_points"), ({"n_points": 7}, "n_points"),
+     ({"signals": ("op", "sp")}, "signals"), ({"dtw_backend": "cuda"}, "dtw_backend"),
+     ({"sakoe_chiba_radius": -2}, "radius"), ({"min_cycles": 0}, "min_cycles"),
+     ({"min_cycles": 1.5}, "min_cycles")],
+)  # fmt: skip
 def test_bad_parameters(params, match):
     with pytest.raises(ValueError, match=match):
         TemplateDistances(**params).fit(_flow_loop()[None])
+
+
+@pytest.mark.parametrize("params", [{"n_points": 8}, {"sakoe_chiba_radius": 0}, {"min_cycles": 1}])
+def test_smallest_allowed_parameters(params):
+    out = TemplateDistances(**params).fit_transform(_flow_loop()[None])
+    assert out[0, -1] == 1.0
+
+
+# ---- pairing of PV cycles with OP cycles --------------------------------------------
+
+
+def _crossings(c):
+    """A signal's crossings ``c``, alternating in sign from upwards."""
+    c = np.asarray(c, dtype=float)
+    return SimpleNamespace(crossings=c, signs=np.where(np.arange(c.size) % 2 == 0, 1, -1))
+
+
+def test_each_cycle_is_paired_with_the_nearest_in_time():
+    # PV cycles (25, 75, 125), (125, 175, 225), (225, 275, 325): centres 75, 175, 275
+    pv = _crossings([25, 75, 125, 175, 225, 275, 325])
+    own = np.array([[25, 75, 125], [125, 175, 225], [225, 275, 325]], dtype=float)
+    reference = np.array(
+        [
+            [20, 30, 60],  # centre 40: before the first PV centre -> the first
+            [60, 70, 190],  # centre 125: a tie between 75 and 175 -> the earlier
+            [100, 110, 180],  # centre 140 (not 145, the mid of its second half) -> 175
+            [250, 260, 350],  # centre 300: after the last -> the last
+        ],
+        dtype=float,
+    )
+    np.testing.assert_array_equal(_nearest_cycles(reference, pv), own[[0, 0, 1, 2]])
+    # two PV cycles, a reference beyond both
+    two = _crossings([25, 75, 125, 175, 225])
+    np.testing.assert_array_equal(
+        _nearest_cycles(np.array([[200.0, 210, 300]]), two), [[125, 175, 225]]
+    )
+    # one PV cycle: every reference cycle gets it
+    one = _crossings([25, 75, 125])
+    np.testing.assert_array_equal(_nearest_cycles(reference[:2], one), [[25, 75, 125]] * 2)
+    # no full PV cycle: the reference bounds are kept
+    np.testing.assert_array_equal(_nearest_cycles(reference, _crossings([25, 75])), reference)
+
+
+def _phase_loop(n=3000, lag=10):
+    """Triangular OP (crossings at 25 and 75 mod 100), square PV crossing at 90 - lag."""
+    t = np.arange(n)
+    op = 50 + 3 * np.abs((t % 100) / 50 - 1)
+    pv = 40 + np.sign(np.sin(2 * np.pi * (t + lag) / 100))
+    return np.stack([pv, op, np.full(n, 40.0)], axis=1)[None]
+
+
+def test_cycles_are_located_on_op_and_on_pv_without_op():
+    X = _phase_loop()
+    on_op = cycle_table(X)
+    assert len(on_op) >= 25
+    np.testing.assert_allclose(on_op["start"].iloc[1:] % 100, 25, atol=1)
+    np.testing.assert_allclose(on_op["period"].iloc[1:], 100, atol=1)  # the first starts early
+    np.testing.assert_allclose(on_op["end"] - on_op["start"], on_op["period"])
+    on_pv = cycle_table(X, signals=("pv",))
+    np.testing.assert_allclose(on_pv["start"].iloc[1:] % 100, 40, atol=1)
+    assert "op_shape" not in on_pv and on_pv["pv_shape"].eq("rectangular").all()
+    out = TemplateDistances(signals=("pv",)).set_output(transform="pandas").fit_transform(X)
+    assert out.loc[0, "n_cycles"] == len(on_pv) and out.loc[0, "period"] == pytest.approx(100)
+
+
+# ---- the transformer's columns -------------------------------------------------------
+
+
+def test_mean_distances_and_shares_of_a_triangular_op():
+    out = TemplateDistances().set_output(transform="pandas").fit_transform(_phase_loop())
+    shares = out.filter(like="op_share_").iloc[0]
+    assert shares.sum() == pytest.approx(1.0) and shares["op_share_triangular"] == 1.0
+    assert out.filter(like="pv_share_").iloc[0].sum() == pytest.approx(1.0)
+    dist = out.filter(like="op_dist_").iloc[0]
+    assert (
+        dist.idxmin() == "op_dist_triangular" and dist.min() < 0.5 * dist.drop(dist.idxmin()).min()
+    )
+
+
+def test_a_loop_that_does_not_oscillate_is_said_so():
+    rng = np.random.default_rng(0)
+    X = np.stack([rng.normal(size=3000), rng.normal(size=3000), np.zeros(3000)], axis=1)[None]
+    assert loop_status(X, require_op=True)[0] == "ok"
+    out = TemplateDistances().fit_transform(X)
+    assert out[0, -1] == 0.0 and np.isnan(out[0, :-1]).all()
+    assert cycle_table(X).empty
+
+
+def test_min_cycles_is_used():
+    X = _phase_loop()  # 30 cycles
+    assert TemplateDistances(min_cycles=20).fit_transform(X)[0, -1] == 1.0
+    assert TemplateDistances(min_cycles=40).fit_transform(X)[0, -1] == 0.0
+
+
+def test_defaults_and_dtw_settings_are_used():
+    X = _phase_loop() + np.random.default_rng(1).normal(0, 0.1, (1, 3000, 3))
+    default = TemplateDistances().fit_transform(X)
+    explicit = TemplateDistances(n_points=32, sakoe_chiba_radius=2, dtw_backend="numba")
+    np.testing.assert_array_equal(default, explicit.fit_transform(X))
+    # a wider band can only shorten the warping path's cost
+    d = {r: cycle_table(X, sakoe_chiba_radius=r).filter(like="_dist_") for r in (0, 2, None)}
+    assert (d[0] >= d[2] - 1e-12).all().all() and (d[2] >= d[None] - 1e-12).all().all()
+    assert (d[0] > d[2] + 1e-3).any().any()
+    coarse = TemplateDistances(n_points=8).fit_transform(X)
+    assert not np.allclose(coarse[0, :8], default[0, :8])
+
+
+def test_shared_analyses_keep_settings_apart():
+    # the scan shares one analysis per loop between transformers: results are memoised
+    # per setting, never handed to a transformer with other settings
+    X = _phase_loop() + np.random.default_rng(2).normal(0, 0.1, (1, 3000, 3))
+    loops = check_loops(X)
+    shared = analyse_loops(loops)
+    for params in ({}, {"sakoe_chiba_radius": None}, {"sakoe_chiba_radius": 0}, {"n_points": 8}):
+        td = TemplateDistances(**params).fit(X)
+        np.testing.assert_array_equal(td.transform_analysed(loops, shared), td.transform(X))
+
+
+def test_cycle_table_skips_loops_that_cannot_be_analysed():
+    good = _flow_loop()
+    X = np.stack([good, good, good])
+    X[1, 100:130, 1] = np.nan  # a gap in OP
+    X[2, :, 1] = np.nan  # no OP
+    table = cycle_table(X)
+    assert set(table["loop"]) == {0}
 
 
 def _cycle_table_cycle_by_cycle(X):
@@ -134,8 +281,13 @@ def _cycle_table_cycle_by_cycle(X):
         for c, (a, _m, b) in enumerate(bounds):
             seg = ana.centred[int(np.floor(a)) : int(np.ceil(b)) + 1]
             r = ratios[(mids >= a) & (mids < b)]
-            row = {"loop": i, "cycle": c, "amplitude_pos": seg.max(), "amplitude_neg": -seg.min(),
-                   "area_ratio": np.nanmean(r) if np.isfinite(r).any() else np.nan}
+            row = {
+                "loop": i,
+                "cycle": c,
+                "amplitude_pos": seg.max(),
+                "amplitude_neg": -seg.min(),
+                "area_ratio": np.nanmean(r) if np.isfinite(r).any() else np.nan,
+            }
             for s in ("op", "pv"):
                 sana, sb, d = found[s]
                 x = sana.centred[int(np.floor(sb[c, 0])) : int(np.ceil(sb[c, 2])) + 1]
