@@ -179,8 +179,7 @@ def _with_evidence(component, extra):
     return replace(component, index=float(1 / (1 + np.exp(-score))))
 
 
-def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
-                   threshold=0.5):
+def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0, threshold=0.5):
     """Detect and time-localise the oscillation of one signal, cycle by cycle.
 
     Detection: :func:`~sktiction.cycles.detect_oscillations` (default parameters)
@@ -294,8 +293,11 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     analysis.regularity = float(regularity)
     if regularity > REGULARITY_THRESHOLD and strength > CONFIRM_ACF and CYCLE_EVIDENCE > 0:
         # regular cycles in the time domain confirm the component of their period
-        boosted = [_with_evidence(c, CYCLE_EVIDENCE)
-                   if abs(np.log(c.period / analysis.period)) < 0.25 else c
-                   for c in analysis.components]
+        boosted = [
+            _with_evidence(c, CYCLE_EVIDENCE)
+            if abs(np.log(c.period / analysis.period)) < 0.25
+            else c
+            for c in analysis.components
+        ]
         _set_detection(analysis, boosted, threshold, min_acf)
     return analysis

@@ -29,6 +29,11 @@ class OscillationComponent:
     share : float
         Share of the detrended signal's power (above the slowest period searched) in
         the component's band.
+    cycle_acf : float
+        ACF at one period of the signal with its moving mean over one period removed
+        (drift gone, the cycle and its harmonics kept) and nothing above the 5th
+        harmonic: how well one cycle repeats the last, whatever its shape (about 0.1
+        for coloured noise, 0.5-0.9 for a cycle).
     """
 
     period: float
@@ -37,6 +42,7 @@ class OscillationComponent:
     prominence: float
     coherence: float
     share: float
+    cycle_acf: float = 0.0
 
 
 def _fill_repeats(x):
@@ -65,12 +71,19 @@ def _smooth_constant_q(p, q):
 def _acf_crossings(r, max_crossings):
     """Fractional lags of the first zero crossings of an ACF (after lag 0)."""
     s = np.signbit(r)
-    idx = np.flatnonzero(s[1:] != s[:-1])[: max_crossings]
+    idx = np.flatnonzero(s[1:] != s[:-1])[:max_crossings]
     return idx + r[idx] / (r[idx] - r[idx + 1])
 
 
 #: Score of a component (see :func:`detect_oscillations`) at which its index is 0.5.
-SCORE_THRESHOLD = 1.0
+SCORE_THRESHOLD = 2.2
+#: Weights of the band-limited ACF's coherence and of the one-period ACF in the score.
+COHERENCE_WEIGHT = 2.0
+CYCLE_ACF_WEIGHT = 1.5
+#: Highest harmonic kept in the one-period ACF.
+CYCLE_HARMONICS = 5.0
+#: Most score that :func:`~sktiction.cycles.analyze_cycles` adds from time-domain cycles.
+MAX_CONFIRMATION = 0.5
 #: Score change that moves the index from 0.5 to about 0.73.
 SCORE_SCALE = 0.2
 #: Evidence asked of a component per 1 / sqrt(cycles in the record).
@@ -107,11 +120,18 @@ def detect_oscillations(
     5. Coherence: the mean of the ACF peaks near one and two periods (one alone when
        two do not fit in 60 % of the record). A filter this wide leaves white noise
        an ACF of about 0.1 and 0 there; a cycle that keeps its phase keeps it near 1.
-    6. Score = log10(prominence) + coherence - 2.5 / sqrt(cycles in the record): few
-       cycles give noisy estimates, so they need more evidence. The index is the
-       logistic function of (score - 1) / 0.2, so it lies in [0, 1] and is 0.5 at
-       the decision threshold. Thornhill's r is reported, not used to decide: the
-       band filter makes the ACF crossings of noise regular too.
+    6. Cycle ACF: the ACF at one period of the signal with its moving mean over one
+       period removed (drift gone, the cycle and its harmonics kept) and nothing
+       above the 5th harmonic. No narrow filter makes it regular: coloured noise
+       keeps its own short memory here (about 0.1), a cycle 0.5-0.9.
+    7. Score = log10(prominence) + 2 coherence + 1.5 cycle ACF
+       - 2.5 / sqrt(cycles in the record): few cycles give noisy estimates, so they
+       need more evidence. The index is the logistic function of (score - 2.2) / 0.2,
+       so it lies in [0, 1] and is 0.5 at the decision threshold. The two ACF terms
+       weigh more than the prominence because a drift's power next to the cycle's
+       frequency lowers the prominence of a real cycle, not its ACFs. Thornhill's r
+       is reported, not used to decide: the band filter makes the ACF crossings of
+       noise regular too.
 
     The thresholds were set on simulated signals of the failure classes that
     ``benchmarks/bench_oscillation.py`` generates (never on measured loops).
@@ -159,8 +179,9 @@ def detect_oscillations(
     if x.size < 4 * min_period or not np.all(np.isfinite(x)) or np.ptp(x) == 0:
         return []
     power, m, _ = _power_spectrum(x)
-    return _components(power, m, x.size, max_components, min_period, min_cycles, bandwidth,
-                       threshold)
+    return _components(
+        power, m, x.size, max_components, min_period, min_cycles, bandwidth, threshold
+    )
 
 
 def _power_spectrum(x):
@@ -190,20 +211,26 @@ def _components(power, m, n, max_components, min_period, min_cycles, bandwidth, 
     log_cum = np.concatenate([[0.0], np.cumsum(np.log(np.maximum(power, floor)))])
     prominence = np.array([smooth[k] / _background(log_cum, k, k_min) for k in chosen])
     penalty = FEW_CYCLES_PENALTY / np.sqrt(n * np.asarray(chosen) / m)
-    # the ACF (the costly part) only for the few most prominent peaks that could reach
-    # the threshold with full coherence: the others keep the index coherence 0 gives
+    # the ACFs (the costly part) only for the few most prominent peaks, and each only
+    # while the peak could still reach the threshold (with the time-domain evidence
+    # analyze_cycles may add): the others keep the index ACFs of 0 give
     evidence = np.log10(np.maximum(prominence, 1e-12)) - penalty
+    reach = SCORE_THRESHOLD - MAX_CONFIRMATION
     out = []
     for rank, i in enumerate(np.argsort(-evidence)):
         k = chosen[i]
-        found = None
-        if rank <= max_components and evidence[i] + 1.0 >= SCORE_THRESHOLD:
+        found, cycle_acf = None, 0.0
+        if rank < max_components and evidence[i] + COHERENCE_WEIGHT + CYCLE_ACF_WEIGHT >= reach:
             found = _band_acf(power, k, m, n, bandwidth)
             if found is None:  # no cycle there: the ACF follows another component
                 continue
+            if evidence[i] + COHERENCE_WEIGHT * found[2] + CYCLE_ACF_WEIGHT >= reach:
+                cycle_acf = _cycle_acf(power, found[0], m, n)
         period, regularity, coherence, band_power = found or (m / k, np.nan, 0.0, 0.0)
         share = float(band_power / total) if total > 0 else 0.0
-        out.append(_component(period, regularity, prominence[i], coherence, share, penalty[i]))
+        out.append(
+            _component(period, regularity, prominence[i], coherence, share, penalty[i], cycle_acf)
+        )
     out.sort(key=lambda o: -o.index)
     kept = []  # one component per period: a side peak's ACF follows the main cycle's
     for o in out:
@@ -220,9 +247,9 @@ def _candidates(smooth, k_lo, k_hi, count):
     chosen = []
     k = np.arange(k_lo - 1, k_hi + 2)
     for spectrum in (smooth[k_lo - 1 : k_hi + 2], smooth[k_lo - 1 : k_hi + 2] * k**2.0):
-        peaks = np.flatnonzero(
-            (spectrum[1:-1] >= spectrum[:-2]) & (spectrum[1:-1] > spectrum[2:])
-        ) + 1
+        peaks = (
+            np.flatnonzero((spectrum[1:-1] >= spectrum[:-2]) & (spectrum[1:-1] > spectrum[2:])) + 1
+        )
         if peaks.size > 4 * count:  # the rest cannot make it
             peaks = peaks[np.argpartition(spectrum[peaks], -4 * count)[-4 * count :]]
         mine = []
@@ -249,8 +276,9 @@ def _band_acf(power, k, m, n, bandwidth):
     bp = np.zeros(top + 1)
     bins = np.arange(low, top + 1)
     bp[low:] = power[low : top + 1] * np.exp(-((np.log(bins / k) / bandwidth) ** 2))
-    step = m / (2.0 * top)  # original samples per lag of the coarse ACF
-    acf = irfft(bp, 2 * top)
+    size = next_fast_len(2 * top, real=True)
+    step = m / size  # original samples per lag of the coarse ACF
+    acf = irfft(bp, size)
     if acf[0] <= 0:
         return None
     lags = np.arange(min(acf.size, int(0.6 * n / step) + 1))
@@ -275,11 +303,49 @@ def _band_acf(power, k, m, n, bandwidth):
     return period, regularity, coherence, float(bp.sum())
 
 
-def _component(period, regularity, prominence, coherence, share, penalty):
-    score = np.log10(max(prominence, 1e-12)) + coherence - penalty
+def _cycle_acf(power, period, m, n):
+    """ACF at one period (its peak within +-25 %) of the signal whose power spectrum is
+    ``power`` after removing its moving mean over one period and all above the 5th
+    harmonic.
+
+    The moving average over one period passes drift and slow moves and has zeros at
+    the cycle's frequency and harmonics, so subtracting it (power weight
+    ``(1 - H)**2``, ``H`` its frequency response) keeps the whole cycle, whatever its
+    shape, while a random walk or trend that hides the plain ACF's first lobe goes.
+    Unlike the band-limited ACF this one is not made regular by a narrow filter:
+    coloured noise keeps its own short memory here.
+    """
+    top = min(power.size - 1, int(np.ceil(CYCLE_HARMONICS * m / period)))
+    f = np.arange(1, top + 1) / m
+    h = np.sin(np.pi * f * period) / (period * np.sin(np.pi * f))
+    bp = np.zeros(top + 1)
+    bp[1:] = power[1 : top + 1] * (1.0 - h) ** 2
+    size = next_fast_len(2 * top, real=True)
+    step = m / size  # original samples per lag of the coarse ACF
+    acf = irfft(bp, size)
+    hi = int(1.25 * period / step) + 1
+    if acf[0] <= 0 or hi >= min(acf.size, 0.6 * n / step):
+        return 0.0
+    lags = np.arange(int(0.75 * period / step), hi)
+    return float(np.max(acf[lags] / acf[0] * (n / (n - lags * step))))
+
+
+def _component(period, regularity, prominence, coherence, share, penalty, cycle_acf):
+    score = (
+        np.log10(max(prominence, 1e-12))
+        + COHERENCE_WEIGHT * coherence
+        + CYCLE_ACF_WEIGHT * cycle_acf
+        - penalty
+    )
     index = 1.0 / (1.0 + np.exp(-(score - SCORE_THRESHOLD) / SCORE_SCALE))
     return OscillationComponent(
-        float(period), float(regularity), float(index), float(prominence), coherence, share
+        float(period),
+        float(regularity),
+        float(index),
+        float(prominence),
+        coherence,
+        share,
+        float(cycle_acf),
     )
 
 
