@@ -1,9 +1,11 @@
 """The valve-model fit: the normal-equation grid search gives the least-squares answer."""
 
 import numpy as np
+import pytest
 
 from sktiction._validation import loop_lengths
 from sktiction.datasets import make_loops
+from sktiction.features import StictionModelFit
 from sktiction.features.stiction_model import (
     _design,
     _grid_normal_equations,
@@ -54,3 +56,87 @@ def test_grid_search_gives_the_least_squares_gain_and_band():
         np.testing.assert_allclose([gain, band], [ref_gain, ref_band], rtol=1e-8, atol=1e-10)
         gains.append(gain)
     assert max(gains) > 0.5 and min(gains) < 0.01  # clear and absent valve models
+
+
+def _valve_loop(band=2.0, n=3000, seed=0):
+    """PV driven through a valve with dead band ``band`` and a lag (docstring example)."""
+    rng = np.random.default_rng(seed)
+    op = 50 + np.cumsum(rng.normal(0, 0.3, n))
+    pv = np.convolve(_play(op, band), [0.0, 0.0, 0.5, 0.3, 0.2])[:n]
+    return pv + rng.normal(0, 0.05, n), op
+
+
+def test_a_large_offset_changes_nothing():
+    # the fit centres PV and OP first: an offset of 1e6 on a signal moving by tens
+    # would otherwise cost the normal equations about twelve digits
+    pv, op = _valve_loop()
+    got = fit_stiction_band(pv + 1e6, op - 1e6)
+    np.testing.assert_allclose(got, fit_stiction_band(pv, op), rtol=1e-6)
+    assert got[0] > 0.5 and 1.6 < got[1] < 2.4
+
+
+def test_collinear_valve_positions_give_the_least_squares_fit():
+    # OP a ramp: every lag of the valve position is the intercept plus a multiple of
+    # another, so the design has rank 4 of 11 and only the least-norm fit is defined
+    op = np.linspace(0.0, 30.0, 800)
+    pv = np.sin(np.arange(800) / 40.0) + 0.01 * np.random.default_rng(0).normal(size=800)
+    np.testing.assert_allclose(fit_stiction_band(pv, op), lstsq_grid(pv, op), rtol=1e-6, atol=1e-9)
+
+
+def test_short_records():
+    pv, op = _valve_loop(n=80)
+    # 4 * (n_lags + 3) samples at least, with n_lags cut to max(2, n // 20)
+    assert np.isnan(fit_stiction_band(pv[:19], op[:19])).all()
+    assert np.isfinite(fit_stiction_band(pv[:20], op[:20])).all()
+    for n in (50, 60, 79):  # 2, 3 and 3 lags
+        np.testing.assert_allclose(
+            fit_stiction_band(pv[:n], op[:n]), lstsq_grid(pv[:n], op[:n]), rtol=1e-8, atol=1e-10
+        )
+
+
+def test_flat_signals_give_nan_and_a_unit_span_does_not():
+    pv, op = _valve_loop()
+    assert np.isnan(fit_stiction_band(pv, np.full_like(op, 3.0))).all()
+    assert np.isnan(fit_stiction_band(np.full_like(pv, 3.0), op)).all()
+    unit_pv, unit_op = (pv - pv.min()) / np.ptp(pv), (op - op.min()) / np.ptp(op)
+    assert np.ptp(unit_pv) == 1.0 and np.ptp(unit_op) == 1.0
+    gain, band = fit_stiction_band(unit_pv, unit_op)
+    assert gain > 0.5 and band == pytest.approx(2.0 / np.ptp(op), rel=0.2)
+
+
+def test_a_given_grid_is_searched():
+    pv, op = _valve_loop(band=2.0)
+    span = np.ptp(op)
+    gain, band = fit_stiction_band(pv, op, grid=[2.0 / span])  # the true band only
+    assert band == pytest.approx(2.0) and gain > 0.5
+    far = fit_stiction_band(pv, op, grid=[0.5])  # a band of half the span
+    assert far[1] in (0.0, pytest.approx(0.5 * span)) and far[0] < gain
+
+
+def _valve_loops(n=1500):
+    pv, op = _valve_loop(n=n)
+    return pv, op, np.stack([pv, op, np.full(pv.size, 50.0)], axis=1)[None]
+
+
+def test_transformer_uses_n_lags_and_rejects_bad_values():
+    pv, op, X = _valve_loops()
+    default = StictionModelFit().fit_transform(X)[0]
+    np.testing.assert_array_equal(default, StictionModelFit(n_lags=8).fit_transform(X)[0])
+    two = StictionModelFit(n_lags=2).fit_transform(X)[0]
+    np.testing.assert_allclose(two[:2], fit_stiction_band(pv, op, n_lags=2))
+    assert two[2] == pytest.approx(two[1] / np.ptp(op))
+    assert not np.allclose(two, default)
+    for bad in (0, 1.5):
+        with pytest.raises(ValueError, match="n_lags must be an integer >= 1"):
+            StictionModelFit(n_lags=bad).fit(X)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    raises=ValueError,
+    reason="n_lags=1 passes the check (>= 1) but the ARX design always has two PV lags "
+    "and the kernel's slices pv[n_lags - 2:] break (see /tmp/coord/REQUESTS.md)",
+)
+def test_the_smallest_allowed_n_lags_works():
+    pv, op, X = _valve_loops()
+    assert np.isfinite(StictionModelFit(n_lags=1).fit_transform(X)).all()
