@@ -1,0 +1,163 @@
+"""PV-OP hysteresis features: known answers for each building block and each column."""
+
+import numpy as np
+import pytest
+
+from sktiction.features import PVOPHysteresis
+from sktiction.features.hysteresis import (
+    FEATURES,
+    _block_means,
+    _moves,
+    _window,
+    hysteresis_fill,
+    stuck_share,
+    time_scale,
+    valve_fit,
+)
+from sktiction.features.stiction_model import _play, fit_stiction_band
+
+T = np.arange(6000)
+
+
+def _sine(period, n=4000):
+    return np.sin(2 * np.pi * np.arange(n) / period)
+
+
+def _ar1(a, n, seed=0):
+    rng = np.random.default_rng(seed)
+    x = np.zeros(n)
+    e = rng.normal(size=n)
+    for i in range(1, n):
+        x[i] = a * x[i - 1] + e[i]
+    return x
+
+
+def _valve_loop(band, span=20.0):
+    """Triangular OP of peak-to-peak ``span``; PV follows the valve behind a dead band."""
+    op = 50 + span / 2 * np.interp(T % 300, [0, 150, 300], [-1, 1, -1])
+    pv = 50 + 0.9 * (_play(op, band) - 50)
+    pv = pv + 0.01 * np.random.default_rng(0).normal(size=T.size)
+    return np.stack([pv, op, np.full(T.size, 50.0)], axis=1)[None]
+
+
+def test_window_is_a_32nd_of_the_period_or_of_the_record():
+    assert _window(_sine(320), 4000) == (10, pytest.approx(320, abs=1))
+    w, period = _window(_sine(1000), 4000)
+    assert w == 31 and period == pytest.approx(1000, abs=2)
+    assert _window(_sine(64), 4000)[0] == 2  # 64 / 32 = 2, the smallest window
+    noise = np.random.default_rng(0).normal(size=40000)
+    w, period = _window(noise, 40000)
+    assert w == 100 and np.isnan(period)  # no period: n / 400
+    assert _window(noise[:4000], 4000)[0] == 10
+    assert _window(noise[:300], 300)[0] == 2  # n / 400 < 1
+
+
+def test_time_scale_is_where_the_autocorrelation_halves():
+    # AR(1) of coefficient a: rho(k) = a^k < 0.5 from k = 7 (a = 0.9); a sine of
+    # period P: cos(2 pi k / P) < 0.5 beyond P / 6 (sampling error aside)
+    assert time_scale(_ar1(0.9, 20000), 20000) == pytest.approx(7, abs=1)
+    assert time_scale(_sine(600), 4000) == pytest.approx(100, abs=1)
+    assert time_scale(np.random.default_rng(0).normal(size=4000), 4000) == 2  # at least 2
+    assert time_scale(np.arange(4000.0), 4000) == 400  # a trend: capped at n / 10
+
+
+def test_block_means():
+    np.testing.assert_array_equal(_block_means(np.arange(10.0), 3), [1.0, 4.0, 7.0])
+    np.testing.assert_array_equal(_block_means(np.arange(4.0), 1), np.arange(4.0))
+
+
+def _walk_valve(n=3000, band=2.0, seed=0):
+    rng = np.random.default_rng(seed)
+    op = 50 + np.cumsum(rng.normal(0, 0.3, n))
+    pv = np.convolve(_play(op, band), [0.0, 0.0, 0.5, 0.3, 0.2])[:n]
+    return pv + rng.normal(0, 0.05, n), op
+
+
+def test_valve_fit_finds_the_band_as_a_share_of_op_span():
+    pv, op = _walk_valve()
+    gain, share = valve_fit(pv, op, 1)
+    assert gain > 0.5 and share == pytest.approx(2.0 / np.ptp(op), rel=0.2)
+    g3, s3 = valve_fit(pv, op, 3)  # block means of 3: fit on the means
+    p, o = _block_means(pv, 3), _block_means(op, 3)
+    np.testing.assert_allclose([g3, s3 * np.ptp(o)], fit_stiction_band(p, o))
+
+
+def test_valve_fit_needs_60_blocks_and_a_moving_op():
+    pv, op = _walk_valve()
+    assert np.isnan(valve_fit(pv[:59], op[:59], 1)).all()
+    assert np.isfinite(valve_fit(pv[:60], op[:60], 1)).all()
+    # the block is shortened so that 60 blocks remain
+    np.testing.assert_array_equal(
+        valve_fit(pv[:120], op[:120], 5), valve_fit(pv[:120], op[:120], 2)
+    )
+    assert not np.allclose(valve_fit(pv[:120], op[:120], 1), valve_fit(pv[:120], op[:120], 2))
+    assert np.isnan(valve_fit(pv, np.full_like(op, 4.0), 1)).all()
+
+
+def test_moves_follow_the_signal_and_ignore_small_steps():
+    up, down = np.linspace(0, 10, 100), np.linspace(10, 0, 100)
+    x = np.concatenate([np.zeros(100), up, np.full(100, 10.0), down])
+    x[:50] += 0.1  # a step of 1 % of the spread: not a move
+    m = _moves(x, 5)
+    assert m.size == x.size - 5
+    assert abs((m == 1).sum() - 100) <= 5 and abs((m == -1).sum() - 100) <= 5
+    assert abs((m == 0).sum() - 200) <= 10
+    assert (m[:150] >= 0).all() and (m[200:250] == 0).all()
+    noise = np.random.default_rng(0).normal(0, 1, 2000)  # three sd of a mean's increment
+    assert (_moves(noise, 10) == 0).mean() > 0.95
+
+
+def test_stuck_share_of_a_valve_stuck_half_the_time():
+    rng = np.random.default_rng(1)
+    op = np.cumsum(rng.normal(size=4000))
+    pv = op.copy()
+    pv[2000:] = pv[2000]  # PV frozen while OP keeps moving
+    stuck, moving = stuck_share(pv, op, 10)
+    assert stuck == pytest.approx(0.5, abs=0.03)
+    assert stuck_share(op, op, 10)[0] == 0.0
+    flat = stuck_share(pv, np.full(4000, 2.0), 10)
+    assert np.isnan(flat[0]) and flat[1] == 0.0
+    # OP moving over the first half only: it moves in about half the windows
+    still = op.copy()
+    still[2000:] = still[2000]
+    assert stuck_share(still, still, 10)[1] == pytest.approx(moving / 2, abs=0.05)
+
+
+def test_fill_is_zero_for_a_line_and_nan_without_travel_or_height():
+    op = 50 + 10 * _sine(300, 3000)
+    assert hysteresis_fill(-op, op, 5, 300.0) == pytest.approx(0.0, abs=0.02)
+    assert np.isnan(hysteresis_fill(np.zeros(3000), op, 5, 300.0))
+    assert np.isnan(hysteresis_fill(-op, np.full(3000, 50.0), 5, 300.0))
+    # the direction the loop is swept in does not matter
+    lag = 50 + 10 * np.sin(2 * np.pi * np.arange(3000) / 300 - 1.0)
+    assert hysteresis_fill(lag, op, 5, 300.0) == pytest.approx(
+        hysteresis_fill(-lag, op, 5, 300.0), rel=1e-9
+    )
+
+
+@pytest.mark.parametrize("band", [2.0, 4.0, 8.0])
+def test_columns_of_a_valve_with_a_known_dead_band(band):
+    # OP a triangle of span A = 20: the valve stays put for a share b / A of each
+    # sweep, and the PV-OP loop is a parallelogram of width b: fill b / A
+    row = dict(zip(FEATURES, PVOPHysteresis().fit_transform(_valve_loop(band))[0]))
+    share = band / 20
+    assert row["hysteresis_fill"] == pytest.approx(share, rel=0.1)
+    assert row["hysteresis_fill_slow"] == pytest.approx(share, rel=0.1)
+    assert row["stuck_share"] == pytest.approx(share, abs=0.05)
+    assert row["stuck_share_slow"] == pytest.approx(share, abs=0.07)
+    assert row["moving_share"] > 0.95 and row["moving_share_slow"] > 0.95
+
+
+def test_slow_columns_use_a_quarter_of_the_time_scale():
+    # a sine of period 600: fast window 600 / 32 = 19, time scale 100, slow window 25
+    op = 50 + 10 * _sine(600, 6000)
+    pv = 50 + 0.9 * (_play(op, 3.0) - 50)
+    pv = pv + 0.01 * np.random.default_rng(0).normal(size=6000)
+    X = np.stack([pv, op, np.full(6000, 50.0)], axis=1)[None]
+    row = PVOPHysteresis().fit_transform(X)[0]
+    err = 50.0 - pv
+    np.testing.assert_allclose(row[:2], stuck_share(pv, op, 19))
+    assert row[2] == pytest.approx(hysteresis_fill(err, op, 19, 600.0), rel=1e-3)
+    np.testing.assert_allclose(row[3:5], stuck_share(pv, op, 25))
+    assert row[5] == pytest.approx(hysteresis_fill(err, op, 25, np.nan))
+    np.testing.assert_allclose(row[6:], valve_fit(pv, op, 25))
