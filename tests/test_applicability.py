@@ -6,10 +6,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from sklearn.utils import Bunch
 
 from sktiction.classifiers import applicability
 from sktiction.classifiers.applicability import (
     APPLICABILITY_COLUMNS,
+    MIN_CHANGES,
     MIN_SAMPLES,
     assess_applicability,
 )
@@ -47,8 +49,12 @@ def make_garbage(n=1000, n_samples=1000, random_state=0):
     their interquartile range (two or three levels); snippets of 10-120 samples.
     """
     rng = np.random.default_rng(random_state)
-    src = make_loops(2 * n // len(GARBAGE_KINDS) + 2, n_samples=n_samples, short_fraction=0.0,
-                     random_state=random_state)[0]
+    src = make_loops(
+        2 * n // len(GARBAGE_KINDS) + 2,
+        n_samples=n_samples,
+        short_fraction=0.0,
+        random_state=random_state,
+    )[0]
     X = np.full((n, n_samples, 3), np.nan)
     kinds = np.array([GARBAGE_KINDS[i % len(GARBAGE_KINDS)] for i in range(n)])
     t = np.arange(n_samples)
@@ -113,8 +119,7 @@ def test_closed_loops_are_accepted(world):
     hold for the full-length loops recorded without historian effects, and 85 % for all,
     with only those reasons.
     """
-    X, _, meta = make_loops(400, n_samples=1500, world=world, random_state=3,
-                            return_meta=True)
+    X, _, meta = make_loops(400, n_samples=1500, world=world, random_state=3, return_meta=True)
     result = assess_applicability(X)
     cause = meta["cause"].to_numpy()
     clean = np.ones(len(X), bool)
@@ -224,3 +229,139 @@ def test_scan_calls_no_garbage_loop_sticky():
     clf = pretrained_classifier(random_state=0, n_loops=60, n_samples=800)
     report = scan_loops(X, classifier=clf)
     assert report["verdict"].eq("stiction").sum() <= 1, pd.crosstab(kinds, report["verdict"])
+
+
+# ---- the building blocks: known answers ------------------------------------------------
+
+
+def test_chance_level_is_carters_bonferroni_level():
+    # K = 12 segments count as 10: P(C > c) = (1 - c)^9 = 1e-3 at c = 1 - 10^(-1/3)
+    assert applicability._chance_level(1, 12) == pytest.approx(1 - 10 ** (-1 / 3), rel=1e-12)
+    assert applicability._chance_level(5, 12, 0.05) == pytest.approx(1 - 0.01 ** (1 / 9))
+    # no frequency tested, or one independent segment or fewer: nothing is above chance
+    assert applicability._chance_level(0, 12) == 1.0
+    assert applicability._chance_level(3, 1.2) == 1.0 and applicability._chance_level(3, 1) == 1.0
+
+
+def test_coherence_is_scipys_at_the_better_resolution():
+    from scipy.signal import coherence
+
+    rng = np.random.default_rng(0)
+    n = 1200
+    a = rng.standard_normal(n)
+    b = np.convolve(a, np.ones(5) / 5, "same") + rng.standard_normal(n)
+    best, ratio = applicability._coherence([(a, b)], n)
+    found = []
+    for nperseg in (n // 12, n // 4):  # 100 and 300 samples
+        f, c = coherence(a, b, window="hann", nperseg=nperseg, detrend="linear")
+        k = (n - nperseg) // (nperseg // 2) + 1
+        level = 1 - (applicability.ALPHA / 2 / (len(f) - 1)) ** (1 / (k / 1.2 - 1))
+        found.append((c[1:].max(), c[1:].max() / level))
+    assert found[0][1] > found[1][1]  # the short segments stand higher above chance here
+    np.testing.assert_allclose([best, ratio], found[0], rtol=1e-9)
+    # with a second pair (SP - PV against OP) the largest over both pairs counts
+    best2, ratio2 = applicability._coherence([(rng.standard_normal(n), b), (a, b)], n)
+    assert best2 == pytest.approx(best) and ratio2 < ratio  # more frequencies tested
+
+
+def test_segments_lose_their_straight_line():
+    x = 3.0 + 0.5 * np.arange(100.0)
+    seg = applicability._segments(x, 20)
+    assert seg.shape == (9, 20)  # half-overlapping: starts 0, 10, ..., 80
+    np.testing.assert_allclose(seg, 0.0, atol=1e-12)
+    wave = np.sin(np.arange(100.0))
+    np.testing.assert_allclose(
+        applicability._segments(x + wave, 20), applicability._segments(wave, 20), atol=1e-12
+    )
+
+
+def test_quantisation_snr_of_known_grids():
+    t = np.arange(2000)
+    x = np.round(4 * np.sin(t / 10)) / 4  # grid 0.25, interquartile range 1.5
+    sd = 1.5 / 1.349
+    expected = 10 * np.log10(12 * sd**2 / 0.25**2)
+    assert applicability._quantisation_snr_db(x) == pytest.approx(expected, rel=1e-9)
+    assert applicability._quantisation_snr_db(np.sin(t / 10)) == np.inf  # on no grid
+    assert applicability._quantisation_snr_db(np.r_[np.zeros(50), 1.0]) == -np.inf  # one step
+    spikes = np.zeros(200)
+    spikes[[50, 120]] = 1.0  # on a grid, but no spread: all grid
+    assert applicability._quantisation_snr_db(spikes) == -np.inf
+
+
+def test_robust_spread():
+    x = np.random.default_rng(0).normal(0, 2.0, 20000)
+    assert applicability._robust_spread(x) == pytest.approx(2.0, rel=0.03)
+    mostly = np.r_[np.zeros(90), np.full(10, 10.0)]  # interquartile range 0: the sd
+    assert applicability._robust_spread(mostly) == pytest.approx(3.0)
+
+
+def test_bad_input_is_refused_with_the_reason():
+    with pytest.raises(ValueError, match="Complex"):
+        assess_applicability(np.ones((1, 200, 3)) * 1j)
+    with pytest.raises(TypeError, match="must hold numbers"):
+        assess_applicability(np.full((1, 200, 3), "a"))
+    with pytest.raises(ValueError, match="3-D"):
+        assess_applicability(np.ones((1, 2, 200, 3)))
+    with pytest.raises(ValueError, match="empty"):
+        assess_applicability(np.ones((0, 200, 3)))
+    with pytest.raises(ValueError, match="empty"):
+        assess_applicability(np.ones((2, 0, 3)))
+    with pytest.raises(ValueError, match="1 to 3 channels"):
+        assess_applicability(np.ones((1, 200, 4)))
+    with pytest.raises(ValueError, match="1 to 3 channels"):
+        assess_applicability(np.ones((1, 200, 0)))
+
+
+def test_lengths_sample_time_and_statistics_reached():
+    X, _ = make_loops(3, n_samples=600, world="classic", random_state=1)
+    X[1, 400:] = np.nan  # NaN-padded to 400 samples
+    X[2, :, 1] = 5.0  # constant OP: no statistics
+    result = assess_applicability(X, ts=2.0)
+    assert result["n_samples"].tolist() == [600, 400, 600]
+    assert result["ts"].tolist() == [2.0, 2.0, 2.0]
+    assert result["reason"].tolist() == ["ok", "ok", "constant_op"]
+    assert result.loc[2, APPLICABILITY_COLUMNS[2:]].drop("n_samples").isna().all()
+    assert result.loc[:1, "n_informative_rows"].tolist() == [600, 400]
+    assert result.loc[:1, "n_changes"].tolist() == [599, 399]
+    # a read_loops Bunch: X and the sample times of its meta
+    bunch = Bunch(X=X[:2], meta=pd.DataFrame({"ts": [0.5, 3.0]}))
+    assert assess_applicability(bunch)["ts"].tolist() == [0.5, 3.0]
+    assert np.isnan(assess_applicability(X[:1])["ts"]).all()
+
+
+def test_held_rows_are_counted():
+    X, _ = make_loops(1, n_samples=1200, world="classic", random_state=1)
+    held = X[0].copy()
+    held[1::2] = held[::2]  # every other row repeats the one before
+    row = assess_applicability(held[None]).iloc[0]
+    assert row["n_informative_rows"] == 600  # rows 0, 2, ..., 1198
+    assert row["pv_repeat_fraction"] == pytest.approx(600 / 1199)  # rows 1, 3, ..., 1199
+    assert row["op_repeat_fraction"] == pytest.approx(600 / 1199)
+    assert row["n_changes"] == 599
+    # PV held alone: OP moves, so every row is informative
+    pv_held = X[0].copy()
+    pv_held[1::2, 0] = pv_held[::2, 0]
+    row = assess_applicability(pv_held[None]).iloc[0]
+    assert row["n_informative_rows"] == 1200 and row["n_changes"] == 599
+    assert row["op_repeat_fraction"] == 0.0
+
+
+def test_thresholds_at_their_bounds():
+    X, _ = make_loops(1, n_samples=600, world="classic", stiction_fraction=1.0, random_state=1)
+    loops = np.full((2, 600, 3), np.nan)
+    loops[0, :MIN_SAMPLES] = X[0, :MIN_SAMPLES]
+    loops[1, : MIN_SAMPLES - 1] = X[0, : MIN_SAMPLES - 1]
+    reasons = assess_applicability(loops)["reason"].tolist()
+    assert reasons[0] != "too_short" and reasons[1] == "too_short"
+    # 31 and 32 changes of OP (every other row of a 600-sample loop moving is plenty)
+    few = []
+    for n_changes in (MIN_CHANGES - 1, MIN_CHANGES):
+        x = X[0].copy()
+        keep = np.zeros(600, bool)
+        keep[np.linspace(0, 599, n_changes + 1).astype(int)] = True
+        x[:, 1] = x[np.maximum.accumulate(np.where(keep, np.arange(600), 0)), 1]
+        few.append(x)
+    result = assess_applicability(np.stack(few))
+    assert result["n_changes"].tolist() == [MIN_CHANGES - 1, MIN_CHANGES]
+    assert result.loc[0, "reason"] == "too_compressed"
+    assert result.loc[1, "reason"] != "too_compressed"
