@@ -199,6 +199,10 @@ def test_cycles_are_located_on_op_and_on_pv_without_op():
     assert "op_shape" not in on_pv and on_pv["pv_shape"].eq("rectangular").all()
     out = TemplateDistances(signals=("pv",)).set_output(transform="pandas").fit_transform(X)
     assert out.loc[0, "n_cycles"] == len(on_pv) and out.loc[0, "period"] == pytest.approx(100)
+    # PV regular for its first 10 cycles only: the cycles are still OP's 29
+    X[0, 1000:, 0] = 40 + 0.05 * np.random.default_rng(0).normal(size=2000)
+    out = TemplateDistances().set_output(transform="pandas").fit_transform(X)
+    assert out.loc[0, "n_cycles"] == len(on_op) == 29
 
 
 # ---- the transformer's columns -------------------------------------------------------
@@ -259,6 +263,8 @@ def test_cycle_table_skips_loops_that_cannot_be_analysed():
     X = np.stack([good, good, good])
     X[1, 100:130, 1] = np.nan  # a gap in OP
     X[2, :, 1] = np.nan  # no OP
+    X = np.concatenate([X, good[None]])
+    X[3, :, 0] = 40.0  # constant PV: OP alone would give cycles
     table = cycle_table(X)
     assert set(table["loop"]) == {0}
 
