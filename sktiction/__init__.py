@@ -4,36 +4,30 @@ Signals -> cycles -> features -> decisions -> reports, in scikit-learn's idiom.
 Loops are arrays ``(n_loops, n_samples, 3)`` with channels PV, OP, SP.
 """
 
-from .classifiers import (
-    AreaRatioClassifier,
-    LearnedStictionClassifier,
-    ShapeLibraryClassifier,
-    make_learned_classifier,
-    pretrained_classifier,
-)
-from .features import (
-    AreaRatio,
-    LoopDescriptors,
-    OscillationFeatures,
-    PVOPHysteresis,
-    StictionModelFit,
-    TemplateDistances,
-    cycle_table,
-)
+from ._lazy import attach
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "AreaRatio",
-    "AreaRatioClassifier",
-    "LoopDescriptors",
-    "OscillationFeatures",
-    "ShapeLibraryClassifier",
-    "StictionModelFit",
-    "TemplateDistances",
-    "cycle_table",
-    "make_learned_classifier",
-    "pretrained_classifier",
-    "LearnedStictionClassifier",
-    "PVOPHysteresis",
-]
+# imported on first use (see ._lazy): a new process that only loads the learned model
+# does not pay for the rest of the package
+__getattr__, __dir__, __all__ = attach(
+    __name__,
+    {
+        ".classifiers": [
+            "AreaRatioClassifier",
+            "LearnedStictionClassifier",
+            "ShapeLibraryClassifier",
+            "make_learned_classifier",
+            "pretrained_classifier",
+        ],
+        ".features": [
+            "AreaRatio",
+            "LoopDescriptors",
+            "OscillationFeatures",
+            "PVOPHysteresis",
+            "StictionModelFit",
+            "TemplateDistances",
+            "cycle_table",
+        ],
+    },
+)

@@ -1,22 +1,18 @@
 """Decisions: the shape library, the area-ratio rule and a learned classifier."""
 
-from .applicability import assess_applicability
-from .area_ratio import AreaRatioClassifier
-from .learned import (
-    LearnedStictionClassifier,
-    make_learned_classifier,
-    make_loop_features,
-    pretrained_classifier,
-)
-from .shape_library import SHAPE_LIBRARY, ShapeLibraryClassifier
+from .._lazy import attach
 
-__all__ = [
-    "SHAPE_LIBRARY",
-    "AreaRatioClassifier",
-    "ShapeLibraryClassifier",
-    "LearnedStictionClassifier",
-    "assess_applicability",
-    "make_learned_classifier",
-    "make_loop_features",
-    "pretrained_classifier",
-]
+__getattr__, __dir__, __all__ = attach(
+    __name__,
+    {
+        ".applicability": ["assess_applicability"],
+        ".area_ratio": ["AreaRatioClassifier"],
+        ".learned": [
+            "LearnedStictionClassifier",
+            "make_learned_classifier",
+            "make_loop_features",
+            "pretrained_classifier",
+        ],
+        ".shape_library": ["SHAPE_LIBRARY", "ShapeLibraryClassifier"],
+    },
+)

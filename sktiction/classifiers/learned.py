@@ -48,8 +48,6 @@ from sklearn.utils.validation import check_is_fitted, column_or_1d
 from threadpoolctl import threadpool_limits
 
 from .._validation import OP, PV, SP, STATUS_OK, loop_lengths, loop_status, validate_loops
-from ..features import AreaRatio, StictionModelFit, TemplateDistances
-from ..features.hysteresis import PVOPHysteresis
 from . import _persistence
 
 #: Reasons :meth:`LearnedStictionClassifier.diagnose` gives for no verdict, besides the
@@ -111,6 +109,10 @@ def make_loop_features(n_jobs=None):
     >>> make_loop_features().fit_transform(X).shape[0]
     3
     """
+    # imported here: loading a fitted model in a new process needs no feature code
+    # (nor numba, which it compiles with)
+    from ..features import AreaRatio, PVOPHysteresis, StictionModelFit, TemplateDistances
+
     return FeatureUnion(
         [
             ("area", AreaRatio()),
@@ -819,8 +821,12 @@ def pretrained_classifier(
 
 
 def _main():  # pragma: no cover - timing helper: python -m sktiction.classifiers.learned
+    # through the imported module: a model built here by __main__'s own classes would be
+    # pickled as __main__.LearnedStictionClassifier, which no other process can load
+    from sktiction.classifiers import learned
+
     t0 = time.perf_counter()
-    _, status = _trained(0, 1500, 2000, True, "default")
+    _, status = learned._trained(0, 1500, 2000, True, "default")
     print(f"default learned classifier {status} in {time.perf_counter() - t0:.1f} s")
 
 

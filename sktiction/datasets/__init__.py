@@ -1,16 +1,14 @@
 """Loop sets: simulated (``make_loops``), measured (``read_loops``, ``read_loop_file``,
 ``list_loop_files``) and the shipped examples (simulated, and real plant windows)."""
 
-from ._examples import load_example
-from ._generators import make_loops
-from ._measured import list_loop_files, read_loop_file, read_loops
-from ._plant_examples import load_plant_examples
+from .._lazy import attach
 
-__all__ = [
-    "list_loop_files",
-    "load_example",
-    "load_plant_examples",
-    "make_loops",
-    "read_loop_file",
-    "read_loops",
-]
+__getattr__, __dir__, __all__ = attach(
+    __name__,
+    {
+        "._examples": ["load_example"],
+        "._generators": ["make_loops"],
+        "._measured": ["list_loop_files", "read_loop_file", "read_loops"],
+        "._plant_examples": ["load_plant_examples"],
+    },
+)

@@ -1,8 +1,13 @@
 """Reports: batch scans of many loops and plots of one loop's cycles."""
 
-from ._stream import scan_files
-from .html import write_html_report
-from .plots import plot_loop
-from .scan import scan_loops
+from .._lazy import attach
 
-__all__ = ["plot_loop", "scan_loops", "write_html_report", "scan_files"]
+__getattr__, __dir__, __all__ = attach(
+    __name__,
+    {
+        ".plots": ["plot_loop"],
+        ".scan": ["scan_loops"],
+        ".html": ["write_html_report"],
+        "._stream": ["scan_files"],
+    },
+)

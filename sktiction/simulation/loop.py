@@ -289,17 +289,22 @@ def simulate_loops(
     X = np.empty((n_loops, n_samples, 3))
     valve = np.empty((n_loops, n_samples))
 
-    def run(noise):
-        _run_loops(
+    def run(noise, rows=slice(None), X=X, valve=valve):
+        per_loop = (
             A, B0, B1, C, nxs, delay, kcs, ti, td, ts_arr, op_lo, op_hi, op0, pv_eq,
-            kinds, vpar, vstate, sp, exo["output_load"], exo["input_load"], noise, X, valve,
+            kinds, vpar, vstate, sp, exo["output_load"], exo["input_load"],
         )  # fmt: skip
+        _run_loops(*(a[rows] for a in per_loop), noise, X, valve)
 
     noise = exo["noise"]
     if exo["noise_relative"].shape[1] > 1:
-        # SNR-specified noise: scale by the PV spread of a noise-free pilot run
-        run(np.zeros((n_loops, 1)))
-        ref = X[:, n_samples // 2 :, 0].std(axis=1)
+        # SNR-specified noise: scale by the PV spread of a noise-free pilot run, run
+        # only for the loops that have such noise (loops are independent)
+        rows = np.flatnonzero(exo["noise_relative"].any(axis=1))
+        pilot = np.empty((rows.size, n_samples, 3))
+        run(np.zeros((rows.size, 1)), rows, pilot, np.empty((rows.size, n_samples)))
+        ref = np.full(n_loops, _DEFAULT_REFERENCE_STD)
+        ref[rows] = pilot[:, n_samples // 2 :, 0].std(axis=1)
         ref = np.where(ref > 1e-12, ref, _DEFAULT_REFERENCE_STD)
         noise = noise + exo["noise_relative"] * ref[:, None]
     run(noise)
