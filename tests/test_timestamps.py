@@ -1,0 +1,202 @@
+"""Time columns: units told apart by range, text formats, and the regular grid."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sktiction.datasets._timestamps import (
+    TimeError,
+    _numeric_unit,
+    count,
+    parse_times,
+    regularise,
+)
+
+# 2024-10-17 21:55:00 UTC in each unit, and as an Excel serial day (1900 system)
+EPOCH_S = pd.Timestamp("2024-10-17 21:55:00").value / 1e9
+EXCEL = (pd.Timestamp("2024-10-17 21:55:00") - pd.Timestamp("1899-12-30")) / pd.Timedelta("1D")
+
+
+def test_count():
+    assert [count(n, "row") for n in (0, 1, 2)] == ["0 rows", "1 row", "2 rows"]
+
+
+@pytest.mark.parametrize(
+    ("scale", "unit"), [(1, "epoch_s"), (1e3, "epoch_ms"), (1e6, "epoch_us"), (1e9, "epoch_ns")]
+)
+def test_epoch_units_by_range(scale, unit):
+    v = (EPOCH_S + np.array([0.0, 10, 20, np.nan])) * scale
+    assert _numeric_unit(v) == unit
+    t, start, notes = parse_times(pd.Series(v))
+    np.testing.assert_allclose(t[:3], [0, 10, 20], atol=1e-3)
+    assert np.isnan(t[3])
+    assert abs(start - pd.Timestamp("2024-10-17 21:55:00")) < pd.Timedelta("1us")
+    name = {"epoch_s": "seconds", "epoch_ms": "milliseconds", "epoch_us": "microseconds",
+            "epoch_ns": "nanoseconds"}[unit]  # fmt: skip
+    assert notes == [f"time read as epoch {name} (start 2024-10-17 21:55:00)"]
+
+
+def test_epoch_range_is_1990_to_2100():
+    first = pd.Timestamp("1990-01-01").value / 1e9
+    last = pd.Timestamp("2100-01-01").value / 1e9
+    assert _numeric_unit(np.array([first, first + 1])) == "epoch_s"
+    assert _numeric_unit(np.array([last - 1, last])) == "epoch_s"
+    assert _numeric_unit(np.array([first - 1, first])) == "s"  # 1989: seconds from anywhere
+    assert _numeric_unit(np.array([last, last + 1])) == "s"
+
+
+def test_excel_serial_days_sampled_within_a_day():
+    v = EXCEL + np.arange(4) * 10 / 86400  # every 10 s
+    assert _numeric_unit(v) == "excel"
+    t, start, notes = parse_times(pd.Series(v))
+    np.testing.assert_array_equal(t, [0.0, 10.0, 20.0, 30.0])  # rounded to the millisecond
+    assert start == pd.Timestamp("2024-10-17 21:55:00")
+    assert notes == ["time read as Excel serial days (start 2024-10-17 21:55:00)"]
+    # daily steps, a single value, or a range outside 1990-2100: plain seconds
+    assert _numeric_unit(EXCEL + np.arange(4.0)) == "s"
+    assert _numeric_unit(np.array([EXCEL])) == "s"
+    assert _numeric_unit(np.array([100.0, 100.5])) == "s"
+    first = (pd.Timestamp("1990-01-01") - pd.Timestamp("1899-12-30")).days
+    last = (pd.Timestamp("2100-01-01") - pd.Timestamp("1899-12-30")).days
+    assert _numeric_unit(np.array([first, first + 0.5])) == "excel"
+    assert _numeric_unit(np.array([last - 0.5, last])) == "excel"
+    assert _numeric_unit(np.array([first - 0.5, first])) == "s"
+
+
+def test_seconds_from_any_origin_and_a_forced_unit():
+    t, start, notes = parse_times(pd.Series([5.0, 6.5, 8.0]))
+    assert t.tolist() == [0.0, 1.5, 3.0] and pd.isna(start) and notes == []
+    # epoch seconds read as plain seconds when the caller says so
+    t, start, notes = parse_times(pd.Series([EPOCH_S, EPOCH_S + 2]), unit="s")
+    assert t.tolist() == [0.0, 2.0] and pd.isna(start) and notes == []
+    t, start, _ = parse_times(pd.Series([EXCEL, EXCEL + 1.0]), unit="excel")
+    assert t.tolist() == [0.0, 86400.0] and start == pd.Timestamp("2024-10-17 21:55:00")
+
+
+def test_numbers_as_text_and_the_odd_text_value():
+    raw = pd.Series(["10", "20", "oops", "40", None], dtype=object)
+    t, start, _ = parse_times(raw)
+    np.testing.assert_array_equal(t, [0.0, 10.0, np.nan, 30.0, np.nan])
+    assert pd.isna(start)
+
+
+def test_datetimes_with_a_time_zone():
+    stamps = pd.Series(pd.to_datetime(["2024-10-17 23:55:00", "2024-10-17 23:55:05"]))
+    t, start, notes = parse_times(stamps.dt.tz_localize("Europe/Berlin"))
+    assert t.tolist() == [0.0, 5.0] and start == pd.Timestamp("2024-10-17 21:55:00")
+    assert notes == ["time zone converted to UTC"]
+    t, start, notes = parse_times(stamps)  # naive: as they are
+    assert start == pd.Timestamp("2024-10-17 23:55:00") and notes == []
+
+
+def test_a_declared_format_is_used():
+    raw = pd.Series(["17-10-2024 21h55m00", "17-10-2024 21h55m10"], dtype="str")
+    t, start, _ = parse_times(raw, time_format="%d-%m-%Y %Hh%Mm%S")
+    assert t.tolist() == [0.0, 10.0] and start == pd.Timestamp("2024-10-17 21:55:00")
+
+
+def test_mostly_not_times_is_refused():
+    good = [str(pd.Timestamp("2024-10-17 21:55:00") + pd.Timedelta(seconds=s)) for s in range(200)]
+    # the first 200 values choose the format; the whole column is then mostly not times
+    with pytest.raises(TimeError, match="most values are not times .first bad value: 'x'"):
+        parse_times(pd.Series(good + ["x"] * 201, dtype="str"))
+    t = parse_times(pd.Series(good + ["x"] * 200, dtype="str"))[0]  # half: accepted
+    assert np.isnan(t[200:]).all() and t[199] == 199.0
+    with pytest.raises(TimeError, match="values are not times .first: 'monday'"):
+        parse_times(pd.Series(["monday"] * 3, dtype="str"))
+    with pytest.raises(TimeError, match="empty"):
+        parse_times(pd.Series([None, None], dtype=object))
+    # a few bad values among times: the format that reads most of the sample wins
+    t, start, _ = parse_times(pd.Series(good[:10] + ["x"], dtype="str"))
+    assert np.isnan(t[-1]) and t[9] == 9.0 and start == pd.Timestamp("2024-10-17 21:55:00")
+
+
+def test_month_first_when_the_days_say_so():
+    raw = pd.Series(["10/13/2024 10:00:00", "10/14/2024 10:00:00"], dtype="str")
+    t, start, notes = parse_times(raw)
+    assert t.tolist() == [0.0, 86400.0] and start == pd.Timestamp("2024-10-13 10:00")
+    assert notes == []
+
+
+def test_times_of_day_over_two_midnights():
+    # a step back of more than 12 h is a midnight; of less, a row out of order
+    raw = pd.Series(["22:00:00", "09:00:00", "21:00:00", "08:00:00", None, "07:00"], dtype=object)
+    t, start, notes = parse_times(raw)
+    h = 3600.0
+    np.testing.assert_array_equal(t, [0, 11 * h, 23 * h, 34 * h, np.nan, 33 * h])
+    assert pd.isna(start) and notes == ["time of day without a date (midnight passes counted)"]
+
+
+# ---- the regular grid ---------------------------------------------------------------------
+
+
+def test_regular_samples_are_left_alone():
+    t = np.arange(5) * 2.0 + 0.01 * np.array([0, 1, -1, 1, 0])  # within 1 % of the step
+    grid, v, step, notes = regularise(t, np.arange(5.0))
+    assert grid is t and v[:, 0].tolist() == list(range(5)) and step == 2.0 and notes == []
+
+
+def test_one_sample_has_no_step():
+    grid, v, step, notes = regularise(np.array([3.0, 3.0]), np.array([1.0, 2.0]))
+    assert grid.tolist() == [3.0] and v.tolist() == [[1.0]] and step is None
+    assert notes == ["1 duplicated timestamp: kept the first row of each"]
+
+
+def test_unsorted_and_duplicated_rows():
+    t = np.array([0.0, 20, 10, 10, 30, 30])
+    v = np.array([0.0, 2, 1, 9, 3, 8])
+    grid, out, step, notes = regularise(t, v)
+    assert grid.tolist() == [0, 10, 20, 30] and out[:, 0].tolist() == [0, 1, 2, 3]
+    assert notes == [
+        "rows not in time order (1 step back): sorted",
+        "2 duplicated timestamps: kept the first row of each",
+    ]
+
+
+def test_irregular_samples_are_interpolated_and_held():
+    t = np.array([0.0, 10, 21, 30, 40])
+    v = np.array([[0.0, 0], [10, 1], [21, 2], [30, 3], [40, 4]])
+    grid, out, step, notes = regularise(t, v, hold=[1])
+    assert grid.tolist() == [0, 10, 20, 30, 40] and step == 10.0
+    np.testing.assert_allclose(out[:, 0], [0, 10, 20, 30, 40])  # linear in t
+    assert out[:, 1].tolist() == [0, 1, 1, 3, 4]  # held: the sample before 20 s
+    assert notes == [
+        "irregular sampling: 2 intervals differ from 10 s (min 9, max 11); "
+        "resampled to 5 rows at 10 s"
+    ]
+    # strict: reported, not resampled
+    same, kept, step, notes = regularise(t, v, strict=True)
+    assert same.tolist() == t.tolist() and kept.tolist() == v.tolist() and step == 10.0
+    assert notes == ["irregular sampling: 2 intervals differ from 10 s (min 9, max 11)"]
+    # a wider tolerance: regular
+    assert regularise(t, v, tolerance=0.11)[3] == []
+
+
+def test_a_sample_on_the_grid_keeps_its_value_next_to_nan():
+    t = np.array([0.0, 10, 20, 31, 40])
+    v = np.array([0.0, np.nan, 2, 3, 4])
+    grid, out, _, _ = regularise(t, v)
+    assert np.isnan(out[1, 0]) and out[0, 0] == 0.0 and out[2, 0] == 2.0
+    assert out[3, 0] == pytest.approx(2 + 10 / 11)
+
+
+def test_time_gaps_are_left_empty():
+    t = np.array([0.0, 10, 20, 60, 70, 80, 85])
+    grid, out, step, notes = regularise(t, t.copy())
+    assert grid.tolist() == [0, 10, 20, 30, 40, 50, 60, 70, 80] and step == 10.0
+    np.testing.assert_array_equal(np.isnan(out[:, 0]), [0, 0, 0, 1, 1, 1, 0, 0, 0])
+    assert notes[0].endswith("; 1 time gap longer than 3 steps left as NaN (3 rows)")
+    # a gap of three steps is bridged
+    t = np.array([0.0, 10, 20, 50, 60, 70, 75])
+    out = regularise(t, t.copy())[1]
+    np.testing.assert_allclose(out[:, 0], [0, 10, 20, 30, 40, 50, 60, 70])
+    assert not np.isnan(
+        regularise(np.array([0.0, 10, 20, 60, 70, 80, 85]), t, gap_steps=4)[1]
+    ).any()
+
+
+def test_a_hole_far_longer_than_the_record_is_refused():
+    with pytest.raises(TimeError, match="41 steps for 10 rows: split the file"):
+        regularise(np.r_[np.arange(9.0), 40.0], np.zeros(10))
+    grid = regularise(np.r_[np.arange(9.0), 39.0], np.zeros(10))[0]  # 40 steps: 4x, allowed
+    assert len(grid) == 40
