@@ -12,6 +12,7 @@ Not part of CI: a full run takes hours on 2 cores. Choose modules and tests:
 
     python benchmarks/mutation.py --module sktiction/features/area_ratio.py \
         --tests tests/test_area_ratio.py tests/test_estimator_checks.py
+    python benchmarks/mutation.py --module sktiction/features/hysteresis.py  # its fast tests
     python benchmarks/mutation.py --module features      # a group, with its tests
     python benchmarks/mutation.py --list                 # the groups
 
@@ -40,23 +41,100 @@ GROUPS = {
     ),
     "features": (
         ["sktiction/features/*.py"],
-        ["tests/test_area_ratio.py", "tests/test_templates.py", "tests/test_estimator_checks.py"],
+        [
+            "tests/test_area_ratio.py",
+            "tests/test_templates.py",
+            "tests/test_stiction_model.py",
+            "tests/test_hysteresis.py",
+            "tests/test_estimator_checks.py",
+        ],
     ),
     "classifiers": (
         ["sktiction/classifiers/*.py"],
-        ["tests/test_classifiers.py", "tests/test_shape_library.py", "tests/test_learned.py",
-         "tests/test_estimator_checks.py"],
-    ),  # fmt: skip
+        [
+            "tests/test_classifiers.py",
+            "tests/test_shape_library.py",
+            "tests/test_learned.py",
+            "tests/test_applicability.py",
+            "tests/test_estimator_checks.py",
+        ],
+    ),
     "datasets": (
         ["sktiction/datasets/*.py"],
-        ["tests/test_make_loops.py", "tests/test_make_loops_signals.py",
-         "tests/test_read_loops.py", "tests/test_example.py"],
-    ),  # fmt: skip
+        [
+            "tests/test_make_loops.py",
+            "tests/test_make_loops_signals.py",
+            "tests/test_read_loops.py",
+            "tests/test_timestamps.py",
+            "tests/test_example.py",
+        ],
+    ),
     "scan": (
         ["sktiction/reports/scan.py"],
         ["tests/test_reports.py", "tests/test_scan.py", "tests/test_properties.py"],
     ),
 }
+
+_CHECKS = "tests/test_estimator_checks.py"
+#: Per file, the tests that exercise it and run in seconds (measured in docs/mutation.md);
+#: ``--module <file>`` without ``--tests`` uses them.
+TARGETED = {
+    "sktiction/features/area_ratio.py": [
+        "tests/test_area_ratio.py",
+        f"{_CHECKS}::test_area_ratio_of_known_half_cycles",
+        f"{_CHECKS}::test_area_ratio_of_each_half_cycle",
+        f"{_CHECKS}::test_area_ratio_filter_and_min_cycles_are_used",
+        f"{_CHECKS}::test_loops_that_do_not_oscillate_are_said_so",
+        f"{_CHECKS}::test_transformer_on_loops[AreaRatio()]",
+        f"{_CHECKS}::test_bad_loops_give_a_row_and_leave_the_others_alone[AreaRatio()]",
+    ],
+    "sktiction/classifiers/shape_library.py": [
+        "tests/test_shape_library.py",
+        f"{_CHECKS}::test_classifier_on_loops[ShapeLibraryClassifier()]",
+        f"{_CHECKS}::test_a_constant_op_gives_no_verdict[ShapeLibraryClassifier()]",
+    ],
+    "sktiction/features/template_distances.py": [
+        "tests/test_templates.py",
+        *(f"{_CHECKS}::{test}[{est}]"
+          for test in ("test_transformer_on_loops",
+                       "test_bad_loops_give_a_row_and_leave_the_others_alone")
+          for est in ("TemplateDistances()", "TemplateDistances(signals=('pv',))")),
+        f"{_CHECKS}::test_transformers_that_read_op_say_nothing_on_a_constant_op"
+        "[TemplateDistances()]",
+    ],
+    "sktiction/features/stiction_model.py": [
+        "tests/test_stiction_model.py",
+        f"{_CHECKS}::test_transformer_on_loops[StictionModelFit()]",
+        f"{_CHECKS}::test_bad_loops_give_a_row_and_leave_the_others_alone[StictionModelFit()]",
+        f"{_CHECKS}::test_transformers_that_read_op_say_nothing_on_a_constant_op"
+        "[StictionModelFit()]",
+        f"{_CHECKS}::test_stiction_model_fit_finds_a_known_dead_band",
+    ],
+    "sktiction/features/hysteresis.py": [
+        "tests/test_hysteresis.py",
+        "tests/test_learned.py::test_hysteresis_fill_known_shapes",
+        "tests/test_learned.py::test_stuck_share_sees_a_valve_that_moves_in_slips",
+        "tests/test_learned.py::test_feature_transformers_are_scale_and_offset_invariant",
+        f"{_CHECKS}::test_transformer_on_loops[PVOPHysteresis()]",
+        f"{_CHECKS}::test_bad_loops_give_a_row_and_leave_the_others_alone[PVOPHysteresis()]",
+    ],
+    "sktiction/classifiers/applicability.py": [
+        f"tests/test_applicability.py::{test}"
+        for test in ("test_each_reason", "test_two_dimensional_input_is_pv_only",
+                     "test_scale_and_offset_never_change_the_outcome",
+                     "test_coherence_chance_level_holds_for_independent_noise",
+                     "test_closed_loop_is_coherent_far_above_chance",
+                     "test_chance_level_is_carters_bonferroni_level",
+                     "test_coherence_is_scipys_at_the_better_resolution",
+                     "test_segments_lose_their_straight_line",
+                     "test_quantisation_snr_of_known_grids", "test_robust_spread",
+                     "test_bad_input_is_refused_with_the_reason",
+                     "test_lengths_sample_time_and_statistics_reached",
+                     "test_held_rows_are_counted", "test_thresholds_at_their_bounds")
+    ],
+    "sktiction/datasets/_timestamps.py": ["tests/test_timestamps.py", "tests/test_read_loops.py"],
+    "sktiction/datasets/_readers.py": ["tests/test_read_loops.py", "tests/test_timestamps.py"],
+}  # fmt: skip
 
 # mutmut's exit codes (mutmut/stats.py)
 _STATUS = {1: "killed", 3: "killed", 0: "survived", 5: "no tests", 33: "no tests",
@@ -72,6 +150,8 @@ def _resolve(modules, tests):
     for m in modules:
         if m in GROUPS:
             g, t = GROUPS[m]
+        elif m in TARGETED:
+            g, t = [m], TARGETED[m]
         else:
             g, t = [m], []
             for group_globs, group_tests in GROUPS.values():
@@ -89,6 +169,7 @@ def _copy_tree(workdir):
     """Scratch copy of the working tree (tracked and untracked files, as they are now)."""
     if workdir.exists():
         shutil.rmtree(workdir)
+
     def ignore(_dir, names):
         return [n for n in names if n in IGNORE or n.endswith(".egg-info")]
 
