@@ -97,25 +97,79 @@ def test_degenerate_signals_have_no_components():
     assert analyze_cycles(np.zeros(500)).oscillation_index == 0.0
 
 
-@pytest.mark.parametrize("kind", ["irregular", "noise_driven", "two_frequencies", "drifting",
-                                  "intermittent", "short_period", "few_slow_cycles",
-                                  "compressed"])
+@pytest.mark.parametrize(
+    "kind",
+    [
+        "irregular",
+        "noise_driven",
+        "two_frequencies",
+        "drifting",
+        "intermittent",
+        "short_period",
+        "few_slow_cycles",
+        "compressed",
+    ],
+)
 def test_failure_classes_are_found(kind):
     bench = _bench()
     rng = np.random.default_rng([99, bench.OSCILLATING.index(kind)])
     hits = sum(analyze_cycles(bench.make_signal(kind, rng)[0]).oscillating for _ in range(40))
     # 0.95 is the goal on the benchmark, 0.9 here for a small sample; a cycle under a
-    # drift 3-10 times its swing in a short record is found 0.85 of the time (benchmark)
-    assert hits >= (30 if kind == "drifting" else 36)
+    # random walk 3-10 times its swing is found 0.92 of the time (benchmark), less in
+    # short records, where the walk's own wiggles at the cycle's period can match it
+    assert hits >= (34 if kind == "drifting" else 36)
 
 
-@pytest.mark.parametrize("kind", ["coloured_noise", "random_walk", "steps", "repeated_noise",
-                                  "drift"])
+@pytest.mark.parametrize(
+    "kind", ["coloured_noise", "random_walk", "steps", "repeated_noise", "drift"]
+)
 def test_quiet_counterparts_rarely_raise_alarms(kind):
     bench = _bench()
     rng = np.random.default_rng([99, 100 + bench.QUIET.index(kind)])
     hits = sum(analyze_cycles(bench.make_signal(kind, rng)[0]).oscillating for _ in range(40))
     assert hits <= 4  # goal 0.05 on the benchmark; 0.1 here for a small sample
+
+
+def test_coloured_noise_with_a_resonance_bump_is_not_an_oscillation():
+    # AR(1) and AR(2) noise (damping ratio 0.35-0.7) of the benchmark, one signal per
+    # seed: the previous score (prominence + coherence, no one-period ACF) called 10 of
+    # these 200 oscillating, at the 5 % goal
+    bench = _bench()
+    c = 100 + bench.QUIET.index("coloured_noise")
+    signals = [
+        bench.make_signal("coloured_noise", np.random.default_rng([s, c]))[0]
+        for s in range(200, 400)
+    ]
+    assert sum(analyze_cycles(x).oscillating for x in signals) <= 8
+
+
+def test_cycle_acf_sees_through_drift_and_not_through_noise():
+    rng = np.random.default_rng(5)
+    t = np.arange(1500)
+    walk = np.cumsum(rng.normal(size=t.size))
+    cycle = np.sign(np.sin(2 * np.pi * t / 75))
+    drifting = cycle + 10 * walk / np.ptp(walk) + rng.normal(0, 0.1, t.size)
+    main = max(detect_oscillations(drifting), key=lambda c: c.cycle_acf)
+    assert main.period == pytest.approx(75, rel=0.05)
+    assert main.cycle_acf > 0.7  # the moving mean over one period took the walk away
+    bench = _bench()
+    noise = [bench._ar2(np.random.default_rng(s), 1500, 60, 0.5) for s in range(20)]
+    acfs = [max((c.cycle_acf for c in detect_oscillations(x)), default=0.0) for x in noise]
+    assert np.median(acfs) < 0.35  # coloured noise keeps only its short memory
+
+
+def test_shipped_plant_window_with_a_square_wave_oscillates():
+    # 2111FIC46005, 2 h at 10 s: square-wave PV and saw-tooth OP, about 13 cycles whose
+    # period wanders between about 50 and 70 samples (counted on the figure)
+    from sktiction.datasets import load_plant_examples
+
+    d = load_plant_examples()
+    i = int(np.flatnonzero(d.meta["file"].str.contains("2111FIC46005_0902"))[0])
+    for channel in (0, 1):
+        a = analyze_cycles(d.X[i, :, channel])
+        assert a.oscillating
+        assert 45 <= a.periods[0] <= 75
+        assert len(a.cycles) >= 8
 
 
 def test_features_per_channel():

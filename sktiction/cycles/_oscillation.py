@@ -303,6 +303,12 @@ def _band_acf(power, k, m, n, bandwidth):
     return period, regularity, coherence, float(bp.sum())
 
 
+def _moving_mean_response(f, period):
+    """Frequency response of a centred moving average over ``period`` samples at
+    frequencies ``f`` (cycles per sample, 0 < f <= 0.5): 1 at 0, 0 at k / period."""
+    return np.sin(np.pi * f * period) / (period * np.sin(np.pi * f))
+
+
 def _cycle_acf(power, period, m, n):
     """ACF at one period (its peak within +-25 %) of the signal whose power spectrum is
     ``power`` after removing its moving mean over one period and all above the 5th
@@ -316,9 +322,8 @@ def _cycle_acf(power, period, m, n):
     coloured noise keeps its own short memory here.
     """
     top = min(power.size - 1, int(np.ceil(CYCLE_HARMONICS * m / period)))
-    f = np.arange(1, top + 1) / m
-    h = np.sin(np.pi * f * period) / (period * np.sin(np.pi * f))
     bp = np.zeros(top + 1)
+    h = _moving_mean_response(np.arange(1, top + 1) / m, period)
     bp[1:] = power[1 : top + 1] * (1.0 - h) ** 2
     size = next_fast_len(2 * top, real=True)
     step = m / size  # original samples per lag of the coarse ACF
