@@ -50,6 +50,7 @@ def test_window_is_a_32nd_of_the_period_or_of_the_record():
     assert w == 100 and np.isnan(period)  # no period: n / 400
     assert _window(noise[:4000], 4000)[0] == 10
     assert _window(noise[:300], 300)[0] == 2  # n / 400 < 1
+    assert _window(noise[:1002], 1002)[0] == 3  # 2.505 rounds up
 
 
 def test_time_scale_is_where_the_autocorrelation_halves():
@@ -59,6 +60,8 @@ def test_time_scale_is_where_the_autocorrelation_halves():
     assert time_scale(_sine(600), 4000) == pytest.approx(100, abs=1)
     assert time_scale(np.random.default_rng(0).normal(size=4000), 4000) == 2  # at least 2
     assert time_scale(np.arange(4000.0), 4000) == 400  # a trend: capped at n / 10
+    # still above 0.5 at the last lag computed (2000): n / 10 as well
+    assert time_scale(np.arange(40000.0), 40000) == 4000
 
 
 def test_block_means():
@@ -92,6 +95,10 @@ def test_valve_fit_needs_60_blocks_and_a_moving_op():
     )
     assert not np.allclose(valve_fit(pv[:120], op[:120], 1), valve_fit(pv[:120], op[:120], 2))
     assert np.isnan(valve_fit(pv, np.full_like(op, 4.0), 1)).all()
+    pv, op = _walk_valve()
+    unit = (op - op.min()) / np.ptp(op)  # a span of exactly 1 is a span
+    assert np.ptp(unit) == 1.0
+    np.testing.assert_allclose(valve_fit(pv, unit, 1), valve_fit(pv, op, 1), rtol=1e-6)
 
 
 def test_moves_follow_the_signal_and_ignore_small_steps():
