@@ -130,7 +130,11 @@ TARGETED = {
                      "test_quantisation_snr_of_known_grids", "test_robust_spread",
                      "test_bad_input_is_refused_with_the_reason",
                      "test_lengths_sample_time_and_statistics_reached",
-                     "test_held_rows_are_counted", "test_thresholds_at_their_bounds")
+                     "test_held_rows_are_counted", "test_thresholds_at_their_bounds",
+                     "test_control_error_is_a_second_pair_only_when_sp_moves",
+                     "test_coherence_of_unrelated_signals_is_below_chance",
+                     "test_edge_cases_of_the_checks", "test_quantisation_snr_bounds",
+                     "test_result_columns_and_types")
     ],
     "sktiction/datasets/_timestamps.py": ["tests/test_timestamps.py", "tests/test_read_loops.py"],
     "sktiction/datasets/_readers.py": ["tests/test_read_loops.py", "tests/test_timestamps.py"],

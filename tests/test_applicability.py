@@ -365,3 +365,97 @@ def test_thresholds_at_their_bounds():
     assert result["n_changes"].tolist() == [MIN_CHANGES - 1, MIN_CHANGES]
     assert result.loc[0, "reason"] == "too_compressed"
     assert result.loc[1, "reason"] != "too_compressed"
+
+
+def test_control_error_is_a_second_pair_only_when_sp_moves():
+    X, _ = make_loops(1, n_samples=1500, world="classic", random_state=4)
+    pv, op, sp = X[0].T
+    flat = X[0].copy()
+    flat[:, 2] = sp[0]
+    step = flat.copy()  # one SP step of half PV's spread: it moves, however little
+    step[750:, 2] += 0.5 * applicability._robust_spread(pv)
+    got = assess_applicability(np.stack([step, flat]))
+    cols = ["pv_op_coherence", "coherence_ratio"]
+    both = applicability._coherence([(pv, op), (step[:, 2] - pv, op)], 1500)
+    np.testing.assert_allclose(got.loc[0, cols], both, rtol=1e-6)
+    alone = applicability._coherence([(pv, op)], 1500)
+    np.testing.assert_allclose(got.loc[1, cols], alone, rtol=1e-6)
+    assert both[1] != pytest.approx(alone[1])  # twice the frequencies tested
+
+
+def test_coherence_of_unrelated_signals_is_below_chance():
+    from scipy.signal import coherence
+
+    rng = np.random.default_rng(3)
+    n = 4000  # segments of 333 -> 332 and 1000 -> 512 samples
+    a, b = rng.standard_normal((2, n))
+    best, ratio = applicability._coherence([(a, b)], n)
+    found = []
+    for nperseg in (332, 512):
+        f, c = coherence(a, b, window="hann", nperseg=nperseg, detrend="linear")
+        k = (n - nperseg) // (nperseg // 2) + 1
+        level = 1 - (applicability.ALPHA / 2 / (len(f) - 1)) ** (1 / (k / 1.2 - 1))
+        found.append((c[1:].max(), c[1:].max() / level))
+    np.testing.assert_allclose([best, ratio], max(found, key=lambda v: v[1]), rtol=1e-9)
+    assert ratio < 1
+    # a short record: segments of at least 32 samples, an even number (300 // 4 = 75 -> 74)
+    a, b = a[:300], b[:300]
+    best, ratio = applicability._coherence([(a, b)], 300)
+    found = []
+    for nperseg in (32, 74):
+        f, c = coherence(a, b, window="hann", nperseg=nperseg, detrend="linear")
+        k = (300 - nperseg) // (nperseg // 2) + 1
+        level = 1 - (applicability.ALPHA / 2 / (len(f) - 1)) ** (1 / (k / 1.2 - 1))
+        found.append((c[1:].max(), c[1:].max() / level))
+    np.testing.assert_allclose([best, ratio], max(found, key=lambda v: v[1]), rtol=1e-9)
+
+
+def test_edge_cases_of_the_checks():
+    X, _ = make_loops(1, n_samples=600, world="classic", stiction_fraction=1.0, random_state=1)
+    loop = X[0]
+    cases = []
+    once = loop.copy()
+    once[1:, 0] = once[1, 0]  # PV moves once, at the start: not constant
+    cases.append(once)
+    once_op = loop.copy()
+    once_op[1:, 1] = once_op[1, 1]
+    cases.append(once_op)
+    tiny = loop.copy()  # a finite spread whose normalised values overflow
+    tiny[:, 0] = np.random.default_rng(0).normal(size=600) * 1e-300
+    tiny[10, 0] = 1e10
+    cases.append(tiny)
+    exact = np.full_like(loop, np.nan)
+    exact[:MIN_SAMPLES] = loop[:MIN_SAMPLES]  # 128 informative rows, coherence ratio 1.1
+    cases.append(exact)
+    got = assess_applicability(np.stack(cases))
+    assert got.loc[0, "reason"] != "constant_pv" and got.loc[1, "reason"] != "constant_op"
+    assert got.loc[2, "reason"] == "not_finite"
+    assert got.loc[3, "reason"] == "ok" and 1.0 < got.loc[3, "coherence_ratio"] < 2.0
+    assert assess_applicability(np.ones((1, 1, 3)))["reason"].tolist() == ["too_short"]
+    # PV and OP only (no SP column): diagnosable
+    assert assess_applicability(loop[None, :, :2])["reason"].tolist() == ["ok"]
+
+
+def test_quantisation_snr_bounds():
+    snr = applicability._quantisation_snr_db
+    # two steps of one grid: sd = IQR / 1.349 = 2 / 1.349
+    assert snr(np.repeat([0.0, 1, 2], 50)) == pytest.approx(10 * np.log10(12 * (2 / 1.349) ** 2))
+    x = 0.5 * np.arange(100)  # IQR 37.125 - 12.375
+    assert snr(x) == pytest.approx(10 * np.log10(12 * (24.75 / 1.349) ** 2 / 0.25))
+    # nine of ten steps on the grid of the smallest: on a grid (90 %)
+    assert np.isfinite(snr(np.r_[0, np.cumsum(np.r_[np.ones(9), 0.5])]))
+    assert applicability._chance_level(1, 2) == pytest.approx(1 - 1e-3 ** (1 / (2 / 1.2 - 1)))
+
+
+def test_result_columns_and_types():
+    X, _ = make_loops(2, n_samples=600, world="classic", random_state=1)
+    X[1, :, 1] = 5.0  # constant OP
+    got = assess_applicability(X, ts=[1, 2])
+    assert list(got.columns) == [*APPLICABILITY_COLUMNS, "ts"]
+    assert got["applicable"].dtype == bool and got["n_samples"].dtype == np.int64
+    assert got["ts"].dtype == float and got["pv_op_coherence"].dtype == float
+    assert got.loc[0, ["pv_op_coherence", "coherence_ratio"]].notna().all()
+    # an explicit ts wins over the Bunch's; integer sample times become float
+    bunch = Bunch(X=X, meta=pd.DataFrame({"ts": [3, 4]}))
+    assert assess_applicability(bunch, ts=9.0)["ts"].tolist() == [9.0, 9.0]
+    assert assess_applicability(bunch)["ts"].dtype == float
