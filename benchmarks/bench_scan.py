@@ -68,23 +68,33 @@ def write_site(folder, n_loops, *, lengths=LENGTHS, p=LENGTH_P, seed=0, batch=25
     return folder
 
 
-def run_measured(cmd, env=None):
-    """Run ``cmd``; return (wall s, peak RSS of its process tree in MiB, stdout)."""
+def run_measured(cmd, env=None, cpu=None):
+    """Run ``cmd``; return (wall s, peak RSS of its process tree in MiB, stdout).
+
+    ``cpu``, a list, receives the CPU time (user + system, s) of the process tree as last
+    polled: unlike the wall time it hardly depends on what else the machine runs.
+    """
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env,
                             text=True)
     parent = psutil.Process(proc.pid)
     peak = 0
+    used = {}
     while proc.poll() is None:
         try:
             procs = [parent, *parent.children(recursive=True)]
             peak = max(peak, sum(p.memory_info().rss for p in procs if p.is_running()))
+            for p in procs:
+                times = p.cpu_times()
+                used[p.pid] = times.user + times.system
         except psutil.Error:
             pass
         time.sleep(0.05)
     out = proc.stdout.read()
     if proc.returncode not in (0, 1):  # the CLI exits 1 when some files fail
         raise RuntimeError(f"{cmd} failed with {proc.returncode}")
+    if cpu is not None:
+        cpu.append(sum(used.values()))
     return time.perf_counter() - t0, peak / 2**20, out
 
 
@@ -107,11 +117,12 @@ def stats(values):
     return f"{v.min():.3g} / {np.median(v):.3g} / {v.max():.3g}"
 
 
-def bench_stream(paths, n_jobs, chunk, runs, model):
+def bench_stream(paths, n_jobs, chunk, runs, model, cpus=None):
     code = STREAM.format(n_jobs=n_jobs, chunk=chunk, model=str(model))
     walls, rss, scans, loads, rows = [], [], [], [], None
+    cpu = [] if cpus is None else cpus
     for _ in range(runs):
-        wall, peak, out = run_measured([sys.executable, "-c", code, *map(str, paths)])
+        wall, peak, out = run_measured([sys.executable, "-c", code, *map(str, paths)], cpu=cpu)
         info = json.loads(out.strip().splitlines()[-1])
         walls.append(wall)
         rss.append(peak)
@@ -299,8 +310,9 @@ def main():
     joblib.dump(clf, model)
     n = args.n_loops
     if not args.skip_stream:
+        cpus = []
         walls, rss, scans, loads, info = bench_stream([site], args.n_jobs, args.chunk_size,
-                                                      args.runs, model)
+                                                      args.runs, model, cpus)
         n = info["rows"]
         print(f"\nscan_files, n_jobs={args.n_jobs}, {args.runs} runs (min / median / max):")
         print(f"  rows {n} ({info['ok']} status ok)")
@@ -311,6 +323,10 @@ def main():
         print(f"  5,000 loops would take         {stats(5000 * np.array(scans) / n / 60)} min"
               "   goal < 2")
         print(f"  whole process wall             {stats(walls)} s")
+        cpu = np.array(cpus)
+        print(f"  CPU time of the process tree   {stats(cpu)} s: {stats(1e3 * cpu / n)} ms per "
+              f"loop, i.e. {stats(1e3 * cpu / n / args.n_jobs)} ms wall per loop on "
+              f"{args.n_jobs} idle cores (start-up included)")
         print(f"  peak RSS of the process tree   {stats(rss)} MiB")
 
     if not args.skip_cli:
@@ -342,6 +358,8 @@ def main():
         shared_pass(args.runs)
     if not args.skip_slope:
         slope_table(args.runs, clf)
+    print(f"\nload average at the end: {' / '.join(f'{v:.1f}' for v in os.getloadavg())} "
+          "(1 / 5 / 15 min)")
 
 
 if __name__ == "__main__":
