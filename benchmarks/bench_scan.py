@@ -61,8 +61,7 @@ def write_site(folder, n_loops, *, lengths=LENGTHS, p=LENGTH_P, seed=0, batch=25
             n = min(n, int(np.sum(~np.isnan(X[i, :, 0]))))
             data = np.column_stack([np.arange(n) * TS, X[i, :n]])
             name = folder / f"{TAGS[k % len(TAGS)]}{k:05d}.csv"
-            np.savetxt(name, data, delimiter=",", fmt="%.6g", header="time,PV,OP,SP",
-                       comments="")
+            np.savetxt(name, data, delimiter=",", fmt="%.6g", header="time,PV,OP,SP", comments="")
             k += 1
     done.write_text(json.dumps([n_loops, list(lengths), seed]))
     return folder
@@ -75,8 +74,9 @@ def run_measured(cmd, env=None, cpu=None):
     polled: unlike the wall time it hardly depends on what else the machine runs.
     """
     t0 = time.perf_counter()
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env,
-                            text=True)
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env, text=True
+    )
     parent = psutil.Process(proc.pid)
     peak = 0
     used = {}
@@ -153,14 +153,19 @@ def slope_table(runs, clf):
     if gate is not None:
         stages["applicability"] = lambda X: gate(X)
     # one seed for all lengths: the same loops (plants, valves, periods), only longer
-    data = {n: make_loops(n_per[n], n_samples=n, stiction_fraction=0.6, random_state=0)[0]
-            for n in lengths}
+    data = {
+        n: make_loops(n_per[n], n_samples=n, stiction_fraction=0.6, random_state=0)[0]
+        for n in lengths
+    }
     for X in data.values():
         for fn in stages.values():
             fn(X[:1])  # compile
     print(f"\ncost against record length {lengths} (ms per loop, median of {runs}):")
-    print(f"{'stage':<20}" + "".join(f"{n:>10}" for n in lengths)
-          + "   slope (all)  slope (last two)")
+    print(
+        f"{'stage':<20}"
+        + "".join(f"{n:>10}" for n in lengths)
+        + "   slope (all)  slope (last two)"
+    )
     for name, fn in stages.items():
         per = []
         for n in lengths:
@@ -173,8 +178,11 @@ def slope_table(runs, clf):
             per.append(np.median(times))
         slope = np.polyfit(np.log(lengths), np.log(per), 1)[0]
         last = np.log(per[-1] / per[-2]) / np.log(lengths[-1] / lengths[-2])
-        print(f"{name:<20}" + "".join(f"{1e3 * t:>10.2f}" for t in per)
-              + f"   {slope:11.2f}  {last:16.2f}")
+        print(
+            f"{name:<20}"
+            + "".join(f"{1e3 * t:>10.2f}" for t in per)
+            + f"   {slope:11.2f}  {last:16.2f}"
+        )
 
 
 def stage_shares(folder, classifier, n_files=64):
@@ -223,8 +231,10 @@ def stage_shares(folder, classifier, n_files=64):
     stages = sum(v for k, v in t.items() if k != "read files")
     t["rest (status, report)"] = max(0.0, total - stages)
     whole = total + t["read files"]
-    print(f"\nshare of time per stage ({len(files)} files, {1e3 * whole / len(files):.1f} ms per "
-          "loop on one core):")
+    print(
+        f"\nshare of time per stage ({len(files)} files, {1e3 * whole / len(files):.1f} ms per "
+        "loop on one core):"
+    )
     for k, v in t.items():
         print(f"  {k:<24} {100 * v / whole:5.1f} %   {1e3 * v / len(files):7.2f} ms/loop")
 
@@ -246,8 +256,14 @@ def shared_pass(runs, n_loops=24):
     # a learned pipeline of the package's transformers, so that all three classifiers
     # can share the analysis (a model that computes its own features cannot)
     Xt, yt = make_loops(150, n_samples=1000, slip_fraction=0.25, random_state=0)
-    union = FeatureUnion([("area", AreaRatio()), ("templates", TemplateDistances()),
-                          ("descriptors", LoopDescriptors()), ("valve_model", StictionModelFit())])
+    union = FeatureUnion(
+        [
+            ("area", AreaRatio()),
+            ("templates", TemplateDistances()),
+            ("descriptors", LoopDescriptors()),
+            ("valve_model", StictionModelFit()),
+        ]
+    )
     model = HistGradientBoostingClassifier(max_iter=100, random_state=0)
     clf = Pipeline([("features", union), ("model", model)]).fit(Xt, yt)
     X, _ = make_loops(n_loops, n_samples=DAY, random_state=1)
@@ -268,10 +284,14 @@ def shared_pass(runs, n_loops=24):
         scan_module._applicability_gate = gate
     pd.testing.assert_frame_equal(got, expected, check_dtype=False)
     old, new = np.array(old), np.array(new)
-    print(f"\none pass vs the classifiers one by one ({n_loops} loops of {DAY} samples, "
-          "same report, one core):")
-    print(f"  one by one {stats(1e3 * old / n_loops)} ms per loop, one pass "
-          f"{stats(1e3 * new / n_loops)} ms per loop; ratio {stats(old / new)}")
+    print(
+        f"\none pass vs the classifiers one by one ({n_loops} loops of {DAY} samples, "
+        "same report, one core):"
+    )
+    print(
+        f"  one by one {stats(1e3 * old / n_loops)} ms per loop, one pass "
+        f"{stats(1e3 * new / n_loops)} ms per loop; ratio {stats(old / new)}"
+    )
 
 
 def main():
@@ -280,10 +300,12 @@ def main():
     parser.add_argument("--n-jobs", type=int, default=2)
     parser.add_argument("--chunk-size", type=int, default=64)
     parser.add_argument("--runs", type=int, default=3)
-    parser.add_argument("--workdir", default=os.path.join(tempfile.gettempdir(),
-                                                          "sktiction_bench_scan"))
-    parser.add_argument("--model", help="a fitted classifier saved with joblib (default: "
-                        "pretrained_classifier())")
+    parser.add_argument(
+        "--workdir", default=os.path.join(tempfile.gettempdir(), "sktiction_bench_scan")
+    )
+    parser.add_argument(
+        "--model", help="a fitted classifier saved with joblib (default: pretrained_classifier())"
+    )
     for part in ("stream", "cli", "slope", "memory", "stages", "share"):
         parser.add_argument(f"--skip-{part}", action="store_true")
     args = parser.parse_args()
@@ -291,8 +313,10 @@ def main():
     print(f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at start")
     t0 = time.perf_counter()
     site = write_site(work / f"site_{args.n_loops}", args.n_loops)
-    print(f"site: {args.n_loops} CSV files, 10 s sampling, 60 % one day ({DAY} samples), "
-          f"20 % 12 h, 20 % 6 h; written or found in {time.perf_counter() - t0:.0f} s")
+    print(
+        f"site: {args.n_loops} CSV files, 10 s sampling, 60 % one day ({DAY} samples), "
+        f"20 % 12 h, 20 % 6 h; written or found in {time.perf_counter() - t0:.0f} s"
+    )
 
     # the model is trained (or found in the user cache) once here, and the scanning
     # processes load it from a file: the scan is timed, not the model cache
@@ -311,8 +335,9 @@ def main():
     n = args.n_loops
     if not args.skip_stream:
         cpus = []
-        walls, rss, scans, loads, info = bench_stream([site], args.n_jobs, args.chunk_size,
-                                                      args.runs, model, cpus)
+        walls, rss, scans, loads, info = bench_stream(
+            [site], args.n_jobs, args.chunk_size, args.runs, model, cpus
+        )
         n = info["rows"]
         print(f"\nscan_files, n_jobs={args.n_jobs}, {args.runs} runs (min / median / max):")
         print(f"  rows {n} ({info['ok']} status ok)")
@@ -320,37 +345,59 @@ def main():
         print(f"  scan wall                      {stats(scans)} s")
         print(f"  ms per loop (wall)             {stats(1e3 * np.array(scans) / n)}   goal <= 24")
         print(f"  loops/s                        {stats(n / np.array(scans))}")
-        print(f"  5,000 loops would take         {stats(5000 * np.array(scans) / n / 60)} min"
-              "   goal < 2")
+        print(
+            f"  5,000 loops would take         {stats(5000 * np.array(scans) / n / 60)} min"
+            "   goal < 2"
+        )
         print(f"  whole process wall             {stats(walls)} s")
         cpu = np.array(cpus)
-        print(f"  CPU time of the process tree   {stats(cpu)} s: {stats(1e3 * cpu / n)} ms per "
-              f"loop, i.e. {stats(1e3 * cpu / n / args.n_jobs)} ms wall per loop on "
-              f"{args.n_jobs} idle cores (start-up included)")
+        print(
+            f"  CPU time of the process tree   {stats(cpu)} s: {stats(1e3 * cpu / n)} ms per "
+            f"loop, i.e. {stats(1e3 * cpu / n / args.n_jobs)} ms wall per loop on "
+            f"{args.n_jobs} idle cores (start-up included)"
+        )
         print(f"  peak RSS of the process tree   {stats(rss)} MiB")
 
     if not args.skip_cli:
         cli_walls, cli_rss = [], []
         for _ in range(args.runs):
             out = work / "cli_report.csv"
-            wall, peak, _ = run_measured([sys.executable, "-m", "sktiction", "scan", str(site),
-                                          "-o", str(out), "-q", "-j", str(args.n_jobs)])
+            wall, peak, _ = run_measured(
+                [
+                    sys.executable,
+                    "-m",
+                    "sktiction",
+                    "scan",
+                    str(site),
+                    "-o",
+                    str(out),
+                    "-q",
+                    "-j",
+                    str(args.n_jobs),
+                ]
+            )
             cli_walls.append(wall)
             cli_rss.append(peak)
-        print(f"\nsktiction scan (CLI), -j {args.n_jobs}: wall {stats(cli_walls)} s "
-              f"({stats(1e3 * np.array(cli_walls) / n)} ms per loop including model load), "
-              f"peak RSS {stats(cli_rss)} MiB")
+        print(
+            f"\nsktiction scan (CLI), -j {args.n_jobs}: wall {stats(cli_walls)} s "
+            f"({stats(1e3 * np.array(cli_walls) / n)} ms per loop including model load), "
+            f"peak RSS {stats(cli_rss)} MiB"
+        )
 
     if not args.skip_memory:
         small = write_site(work / "mem_500", 500, lengths=(2000,), p=(1.0,), seed=1)
         more = write_site(work / "mem_1500", 1500, lengths=(2000,), p=(1.0,), seed=2)
-        _, rss_small, _, _, _ = bench_stream([small], args.n_jobs, args.chunk_size, args.runs,
-                                             model)
-        _, rss_big, _, _, _ = bench_stream([small, more], args.n_jobs, args.chunk_size,
-                                           args.runs, model)
+        _, rss_small, _, _, _ = bench_stream(
+            [small], args.n_jobs, args.chunk_size, args.runs, model
+        )
+        _, rss_big, _, _, _ = bench_stream(
+            [small, more], args.n_jobs, args.chunk_size, args.runs, model
+        )
         ratio = np.array(rss_big) / np.median(rss_small)
-        print(f"\nmemory: peak RSS 500 files {stats(rss_small)} MiB, 2,000 files "
-              f"{stats(rss_big)} MiB; ratio {stats(ratio)} (goal <= 1.1)")
+        print(
+            f"\nmemory: peak RSS 500 files {stats(rss_small)} MiB, 2,000 files "
+            f"{stats(rss_big)} MiB; ratio {stats(ratio)} (goal <= 1.1)"
+        )
 
     if not args.skip_stages:
         stage_shares(site, clf)
@@ -358,8 +405,10 @@ def main():
         shared_pass(args.runs)
     if not args.skip_slope:
         slope_table(args.runs, clf)
-    print(f"\nload average at the end: {' / '.join(f'{v:.1f}' for v in os.getloadavg())} "
-          "(1 / 5 / 15 min)")
+    print(
+        f"\nload average at the end: {' / '.join(f'{v:.1f}' for v in os.getloadavg())} "
+        "(1 / 5 / 15 min)"
+    )
 
 
 if __name__ == "__main__":
