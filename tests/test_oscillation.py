@@ -115,7 +115,7 @@ def test_failure_classes_are_found(kind):
     rng = np.random.default_rng([99, bench.OSCILLATING.index(kind)])
     hits = sum(analyze_cycles(bench.make_signal(kind, rng)[0]).oscillating for _ in range(40))
     # 0.95 is the goal on the benchmark, 0.9 here for a small sample; a cycle under a
-    # random walk 3-10 times its swing is found 0.92 of the time (benchmark), less in
+    # random walk 3-10 times its swing is found 0.91 of the time (benchmark), less in
     # short records, where the walk's own wiggles at the cycle's period can match it
     assert hits >= (34 if kind == "drifting" else 36)
 
@@ -132,15 +132,27 @@ def test_quiet_counterparts_rarely_raise_alarms(kind):
 
 def test_coloured_noise_with_a_resonance_bump_is_not_an_oscillation():
     # AR(1) and AR(2) noise (damping ratio 0.35-0.7) of the benchmark, one signal per
-    # seed: the previous score (prominence + coherence, no one-period ACF) called 10 of
-    # these 200 oscillating, at the 5 % goal
+    # seed: at most the goal's 5 % called oscillating (8 of these 200 are; an irregular
+    # cycle and a resonance of damping 0.35 look alike, so this is where the threshold
+    # sits)
     bench = _bench()
     c = 100 + bench.QUIET.index("coloured_noise")
     signals = [
         bench.make_signal("coloured_noise", np.random.default_rng([s, c]))[0]
         for s in range(200, 400)
     ]
-    assert sum(analyze_cycles(x).oscillating for x in signals) <= 8
+    assert sum(analyze_cycles(x).oscillating for x in signals) <= 10
+
+
+def test_very_irregular_cycles_are_found_in_a_third():
+    # period and amplitude wander by 35-50 % (Thornhill's r about 0.7-1.1, as the
+    # issue measured on real loops): such a cycle is a narrow-band random process
+    # much like a resonance of damping 0.35, so only the clearest are found
+    # (0.38 on the benchmark)
+    bench = _bench()
+    rng = np.random.default_rng([99, bench.STREAM["very_irregular"]])
+    signals = [bench.make_signal("very_irregular", rng)[0] for _ in range(80)]
+    assert sum(analyze_cycles(x).oscillating for x in signals) >= 22
 
 
 def test_cycle_acf_sees_through_drift_and_not_through_noise():

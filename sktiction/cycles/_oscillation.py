@@ -76,10 +76,10 @@ def _acf_crossings(r, max_crossings):
 
 
 #: Score of a component (see :func:`detect_oscillations`) at which its index is 0.5.
-SCORE_THRESHOLD = 2.2
+SCORE_THRESHOLD = 1.3
 #: Weights of the band-limited ACF's coherence and of the one-period ACF in the score.
-COHERENCE_WEIGHT = 2.0
-CYCLE_ACF_WEIGHT = 1.5
+COHERENCE_WEIGHT = 0.67
+CYCLE_ACF_WEIGHT = 0.67
 #: Highest harmonic kept in the one-period ACF.
 CYCLE_HARMONICS = 5.0
 #: Most score that :func:`~sktiction.cycles.analyze_cycles` adds from time-domain cycles.
@@ -87,7 +87,7 @@ MAX_CONFIRMATION = 0.5
 #: Score change that moves the index from 0.5 to about 0.73.
 SCORE_SCALE = 0.2
 #: Evidence asked of a component per 1 / sqrt(cycles in the record).
-FEW_CYCLES_PENALTY = 2.5
+FEW_CYCLES_PENALTY = 1.5
 #: Lowest frequency (cycles per record) the spectrum background is read from.
 LOWEST_BACKGROUND = 1.5
 
@@ -124,14 +124,16 @@ def detect_oscillations(
        period removed (drift gone, the cycle and its harmonics kept) and nothing
        above the 5th harmonic. No narrow filter makes it regular: coloured noise
        keeps its own short memory here (about 0.1), a cycle 0.5-0.9.
-    7. Score = log10(prominence) + 2 coherence + 1.5 cycle ACF
-       - 2.5 / sqrt(cycles in the record): few cycles give noisy estimates, so they
-       need more evidence. The index is the logistic function of (score - 2.2) / 0.2,
-       so it lies in [0, 1] and is 0.5 at the decision threshold. The two ACF terms
-       weigh more than the prominence because a drift's power next to the cycle's
-       frequency lowers the prominence of a real cycle, not its ACFs. Thornhill's r
-       is reported, not used to decide: the band filter makes the ACF crossings of
-       noise regular too.
+    7. Score = log10(prominence) + 0.67 (coherence + cycle ACF)
+       - 1.5 / sqrt(cycles in the record): few cycles give noisy estimates, so they
+       need more evidence. The index is the logistic function of
+       (score - 1.3) / 0.2, so it lies in [0, 1] and is 0.5 at the decision
+       threshold. The ACF terms let a cycle whose prominence a drift lowers (the
+       drift's power lies next to the cycle's frequency) still be found; they weigh
+       less than the prominence because an irregular cycle (period wandering by a
+       third, Thornhill's r about 1) keeps little phase memory but still stands out
+       of the spectrum. Thornhill's r is reported, not used to decide: the band
+       filter makes the ACF crossings of noise regular too.
 
     The thresholds were set on simulated signals of the failure classes that
     ``benchmarks/bench_oscillation.py`` generates (never on measured loops).
@@ -211,16 +213,18 @@ def _components(power, m, n, max_components, min_period, min_cycles, bandwidth, 
     log_cum = np.concatenate([[0.0], np.cumsum(np.log(np.maximum(power, floor)))])
     prominence = np.array([smooth[k] / _background(log_cum, k, k_min) for k in chosen])
     penalty = FEW_CYCLES_PENALTY / np.sqrt(n * np.asarray(chosen) / m)
-    # the ACFs (the costly part) only for the few most prominent peaks, and each only
-    # while the peak could still reach the threshold (with the time-domain evidence
-    # analyze_cycles may add): the others keep the index ACFs of 0 give
+    # the ACFs (the costly part) only for the few most prominent peaks and any peak
+    # that reaches the threshold on its own, and each only while the peak could still
+    # reach it (with the time-domain evidence analyze_cycles may add): the others keep
+    # the index ACFs of 0 give
     evidence = np.log10(np.maximum(prominence, 1e-12)) - penalty
     reach = SCORE_THRESHOLD - MAX_CONFIRMATION
     out = []
     for rank, i in enumerate(np.argsort(-evidence)):
         k = chosen[i]
         found, cycle_acf = None, 0.0
-        if rank < max_components and evidence[i] + COHERENCE_WEIGHT + CYCLE_ACF_WEIGHT >= reach:
+        could = evidence[i] + COHERENCE_WEIGHT + CYCLE_ACF_WEIGHT >= reach
+        if could and (rank <= max_components or evidence[i] >= reach):
             found = _band_acf(power, k, m, n, bandwidth)
             if found is None:  # no cycle there: the ACF follows another component
                 continue
