@@ -374,16 +374,34 @@ def _harmonic(o, slower, threshold):
 
 def _background(log_cum, k, k_min):
     """Spectrum background at bin ``k``: geometric mean of the periodogram over bins
-    [k/3, k/1.7] and [1.7 k, 3 k] (one side when the other leaves the range
-    [k_min, end]), from the running sum ``log_cum`` of its logarithm. The log of an
-    exponential variable averages ln(mean) - Euler's gamma, hence the correction; the
-    log keeps a peak in a side band from raising the background much."""
-    sides = []
-    for a, b in ((k / 3.0, k / 1.7), (1.7 * k, 3.0 * k)):
+    [k/3, k/1.7] and [1.7 k, 3 k], from the running sum ``log_cum`` of its logarithm.
+    The two sides cancel the slope of a power law (random walks, drift). When the
+    lower side leaves the range [k_min, end] (a peak of fewer than 4.5 cycles per
+    record), the slope is read from [1.7 k, 3 k] and [3 k, 5.3 k] instead and
+    extrapolated to ``k`` (never below the upper side): the upper side alone would
+    put the background of a falling spectrum too low and make any slow bump stand
+    out. The log of an exponential variable averages ln(mean) - Euler's gamma, hence
+    the correction; the log keeps a peak in a side band from raising the background
+    much."""
+
+    def side(a, b):
         a, b = int(np.ceil(a)), int(np.floor(b)) + 1
         if a >= k_min and b < log_cum.size and b - a >= 3:
-            sides.append((log_cum[b] - log_cum[a]) / (b - a))
-    if not sides:
+            return (log_cum[b] - log_cum[a]) / (b - a)
+        return None
+
+    low, high = side(k / 3.0, k / 1.7), side(1.7 * k, 3.0 * k)
+    if low is not None and high is not None:
+        level = 0.5 * (low + high)
+    elif high is not None:
+        further = side(3.0 * k, 5.3 * k)
+        level = high
+        if further is not None:  # centres of the two bands: 2.26 k and 3.99 k
+            slope = (high - further) / np.log(3.99 / 2.26)
+            level = max(high, high + slope * np.log(2.26))
+    elif low is not None:
+        level = low
+    else:
         a = int(np.ceil(k_min))
-        sides.append((log_cum[-1] - log_cum[a]) / (log_cum.size - 1 - a))
-    return float(np.exp(np.mean(sides) + np.euler_gamma))
+        level = (log_cum[-1] - log_cum[a]) / (log_cum.size - 1 - a)
+    return float(np.exp(level + np.euler_gamma))
