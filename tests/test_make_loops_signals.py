@@ -104,3 +104,73 @@ def test_setpoint_steps_are_in_sp_where_meta_lists_them():
         assert np.allclose(sp[jumps] - sp[jumps - 1], expected, rtol=1e-9, atol=1e-9)
     # the draw has loops with and without steps (every sticky loop and half the quiet ones)
     assert 10 <= n_with_steps < len(X)
+
+
+# ---- default-world knobs of PV's own variation, quiet loops, setpoint regimes, loop type ----
+
+
+def _loop_stats(X):
+    from sktiction.realism import loop_statistics
+
+    return loop_statistics(X)
+
+
+def test_pv_own_share_lowers_the_pv_op_correlation():
+    """A component OP does not explain carrying a share s of the PV variance scales the PV-OP
+    correlation by about sqrt(1 - s) (0.63 for s = 0.6; detrending takes some of the slow
+    component away, so a little less)."""
+    kw = {"stiction_fraction": 0.5, "random_state": 5}
+    corr = [
+        _loop_stats(make_loops(80, 600, pv_own_share=(s, s), **kw)[0])["pv_op_corr"].median()
+        for s in (0.0, 0.6)
+    ]
+    ratio = corr[1] / corr[0]
+    # measured on seeds 5-6: 0.62-0.63 (sqrt(0.4) = 0.63)
+    assert 0.5 < ratio < 0.75, corr
+
+
+def test_quiet_loops_do_not_cycle_for_either_label():
+    """oscillating_fraction=0: loops of every cause are quiet (error ACF peak <= 0.3)."""
+    shares = {}
+    for frac in (1.0, 0.0):
+        X, y = make_loops(120, 600, oscillating_fraction=frac, random_state=8)
+        cycling = np.nan_to_num(_loop_stats(X)["acf_peak"].to_numpy()) > 0.3
+        shares[frac] = (cycling[y == 1].mean(), cycling[y == 0].mean())
+    # measured on seed 8: sticky 0.58 -> 0.07, healthy 0.50 -> 0.12 (seed 9: 0.27 -> 0.10,
+    # 0.48 -> 0.18)
+    for label in (0, 1):
+        assert shares[0.0][label] <= 0.2, shares
+        assert shares[1.0][label] - shares[0.0][label] >= 0.15, shares
+
+
+@pytest.mark.parametrize(
+    "weights, check",
+    [
+        ({"constant": 1.0}, lambda s: (s["sp_change_fraction"] == 0).all()),
+        ({"cascade": 1.0}, lambda s: (s["sp_change_fraction"] > 0.2).all()),
+        ({"steps": 1.0}, lambda s: ((s["sp_steps"] >= 1) & (s["sp_change_fraction"] < 0.2)).all()),
+    ],
+    ids=["constant", "cascade", "steps"],
+)
+def test_setpoint_weights_set_the_regime_seen_in_sp(weights, check):
+    # full records: a step late in a record cut short is not in it
+    X, _ = make_loops(20, 400, setpoint_weights=weights, short_fraction=0.0, random_state=2)
+    assert check(_loop_stats(X))
+
+
+def test_loop_type_reaches_the_recording_effects():
+    """A calibrated world's recording is drawn per loop type: level loops (integrating plants)
+    held, the others clean."""
+    from sktiction.simulation import HoldLastValue
+
+    class LevelHolds:
+        overrides = {}
+
+        def recording_effects(self, rng, loop_type=None):
+            return [HoldLastValue(0.4, 5.0)] if loop_type == "level" else []
+
+    X, _, meta = make_loops(30, 400, realism=LevelHolds(), random_state=0, return_meta=True)
+    held = _loop_stats(X)["hold_fraction"].to_numpy() > 0.1
+    level = (meta["plant"] == "integrating").to_numpy()
+    assert level.any() and (~level).any()
+    assert held[level].all() and not held[~level].any()

@@ -291,3 +291,53 @@ def test_calibrate_matches_noise_level():
     Xr, _ = make_loops(60, 500, realism=realism, random_state=3)
     after = compare(Xr, meas, domain=False).set_index("effect")
     assert abs(after.loc["noise_level", "effect_size"]) < 0.3
+
+
+# ---- calibrate: world settings (PV's own variation, quiet loops, setpoint regimes) ---------
+
+
+@pytest.fixture(scope="module")
+def quiet_world():
+    """'Measured' default-world loops with known world settings, and their calibration."""
+    truth = {
+        "pv_own_share": (0.4, 0.4),
+        "oscillating_fraction": 0.2,
+        "setpoint_weights": {"constant": 0.5, "steps": 0.3, "cascade": 0.2},
+    }
+    X, _ = make_loops(120, 600, random_state=1, **truth)
+    return truth, X, calibrate(X, random_state=0)
+
+
+def test_calibrate_recovers_world_settings(quiet_world):
+    """Tolerances: own-variation share +-0.2, oscillating share +-0.25, regime weights +-0.1
+    (one step and several are told apart by count only: a draw of 'steps' may hold one, so
+    'step' and 'steps' are summed). Measured on seeds 1-2: share 0.39-0.53, oscillating
+    0.0-0.1, constant 0.52-0.55, steps 0.26-0.30, cascade 0.15-0.22."""
+    truth, _, realism = quiet_world
+    lo, hi = realism.overrides["pv_own_share"]
+    assert 0.2 <= lo <= hi <= 0.6
+    assert realism.overrides["oscillating_fraction"] == pytest.approx(0.2, abs=0.25)
+    w = realism.overrides["setpoint_weights"]
+    assert w["constant"] == pytest.approx(0.5, abs=0.1)
+    assert w["steps"] + w["step"] == pytest.approx(0.3, abs=0.1)
+    assert w["cascade"] == pytest.approx(0.2, abs=0.1)
+
+
+def test_calibrate_tells_cycling_from_quiet_worlds(quiet_world):
+    """A world where every loop's cycle has its drive on calibrates to a higher share."""
+    _, _, quiet = quiet_world
+    X, _ = make_loops(120, 600, random_state=2, oscillating_fraction=1.0)
+    cycling = calibrate(X, random_state=0)
+    assert cycling.overrides["oscillating_fraction"] >= 0.75
+    gap = cycling.overrides["oscillating_fraction"] - quiet.overrides["oscillating_fraction"]
+    assert gap > 0.5
+
+
+def test_calibrated_world_settings_reach_the_loops(quiet_world):
+    """make_loops(realism=...) copies each measured loop's settings: its PV-OP correlation
+    and share of cycling loops come out as measured (no significant difference)."""
+    _, X, realism = quiet_world
+    Xr, _ = make_loops(120, 600, realism=realism, random_state=3)
+    table = compare(Xr, X, domain=False).set_index("effect")
+    for effect in ("pv_op_phase", "oscillation_regularity", "setpoint_steps", "cascade_setpoint"):
+        assert not table.loc[effect, "significant"], table.loc[effect]

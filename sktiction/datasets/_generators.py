@@ -33,6 +33,7 @@ from ..simulation import (
     simulate_loops,
 )
 from ..simulation._threads import single_blas_thread
+from ..simulation.disturbances import PVVariation
 from ..simulation.historian import (
     DeadbandCompression,
     HoldLastValue,
@@ -244,6 +245,12 @@ _RULES_INT = ("amigo", "simc")
 NOISE_COLOURS = ("white", "ar1", "bandlimited")
 SETPOINT_REGIMES = ("constant", "steps", "step", "cascade")
 _REGIME_WEIGHTS = {"constant": 0.35, "steps": 0.3, "step": 0.1, "cascade": 0.25}
+# loop type of a simulated loop by plant order, and the orders a measured loop type allows
+_LOOP_TYPES = {"integrating": "level", 1: "flow", 2: "pressure"}
+_TYPE_ORDERS = {"level": ("integrating",), "flow": (1, 2), "pressure": (1, 2)}
+# PV's own variation stays below this frequency (cycles per sample), so that the noise, not
+# it, rules PV's second differences (noise_colour)
+_OWN_MAX_CUTOFF = 0.05
 RECORDING_EFFECTS = ("quantisation", "hold", "compression", "averaging")
 
 _SHARED_DEFAULTS = {
@@ -275,6 +282,9 @@ _DEFAULT_DEFAULTS = {
     "setpoint_regimes": SETPOINT_REGIMES,
     "recording": RECORDING_EFFECTS,
     "recording_fraction": 0.5,
+    "pv_own_share": (0.0, 0.0),
+    "oscillating_fraction": 1.0,
+    "setpoint_weights": _REGIME_WEIGHTS,
     "short_fraction": 0.25,
     "min_length": 200,
     "warmup": None,  # max(300, n_samples // 5)
@@ -317,16 +327,40 @@ def _recording_effect(name, rng):
     return [IntervalAveraging(int(rng.integers(2, 11)))]
 
 
+def _loop_type(order):
+    return _LOOP_TYPES.get(order, "temperature")
+
+
+def _takes_loop_type(method):
+    """Whether a realism's ``recording_effects`` takes the keyword ``loop_type``."""
+    import inspect
+
+    params = inspect.signature(method).parameters.values()
+    return any(p.name == "loop_type" or p.kind == p.VAR_KEYWORD for p in params)
+
+
 def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
     """Loops of the default world; returns simulator inputs and per-loop post-processing."""
     plants, controllers, valves, effects, records, rows = [], [], [], [], [], []
     lam_lo, lam_hi = opt["lambda_range"]
     p_lo, p_hi = opt["period_range"]
     s_lo, s_hi = opt["S_range"]
-    snr_lo, snr_hi = opt["snr_db_range"]
-    n_total = n_samples + n_warm
+    realism = opt["realism"]
+    profiles = callable(getattr(realism, "loop_profile", None))
+    typed = realism is not None and _takes_loop_type(realism.recording_effects)
     for cause in labels:
-        order = _pick(rng, opt["orders"])
+        # a calibrated world copies one measured loop's profile: its loop type sets the plant
+        # type, its settings (noise, PV's own variation, oscillating or quiet, setpoint
+        # regime) and recording are this loop's, drawn alike for every cause
+        profile = realism.loop_profile(rng) if profiles else {}
+        lopt = {**opt, **profile.get("settings", {})}
+        allowed = opt["orders"]
+        if profile.get("loop_type") in _TYPE_ORDERS:
+            allowed = [o for o in opt["orders"] if o in _TYPE_ORDERS[profile["loop_type"]]]
+            allowed = allowed or opt["orders"]
+        order = _pick(rng, allowed)
+        loop_type = profile.get("loop_type") or _loop_type(order)
+        snr_lo, snr_hi = lopt["snr_db_range"]
         integrating = order == "integrating"
         lam_target = rng.uniform(lam_lo, lam_hi)
         # direct and reverse acting loops alike
@@ -339,11 +373,17 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
         # how the loop is run, drawn alike for every cause
         kc_factor = ti_factor = 1.0
         loop_kind = "standard"
+        # quiet loops of every cause: sluggish integral action and slow process variation
+        # swamp the cycle's drive (an external oscillation is weak, a sticky valve sticks
+        # for long stretches and jerks along a wandering OP)
+        oscillating = True
+        if lopt["oscillating_fraction"] < 1.0:
+            oscillating = bool(rng.random() < lopt["oscillating_fraction"])
         if integrating and rng.random() < 0.5:
             # averaging level control: loose P-dominant tuning, OP follows PV in phase
             loop_kind = "averaging"
             kc_factor, ti_factor = _loguniform(rng, 0.1, 0.5), _loguniform(rng, 2.0, 10.0)
-        elif rng.random() < opt["slip_fraction"]:
+        elif not oscillating or rng.random() < opt["slip_fraction"]:
             loop_kind = "sluggish"
             kc_factor, ti_factor = rng.uniform(0.4, 1.0), _loguniform(rng, 3.0, 20.0)
         w180, _ = _phase_crossover(plant0, kc0, ti0 * ti_factor, 0.0, _GRID)
@@ -382,11 +422,11 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
         where = "input" if rng.random() < 0.5 else "output"
         unit = 2.0 if where == "input" else nominal
         cutoff = min(_loguniform(rng, 0.3, 3.0) / pu_samples, 0.45)
-        eff.append(
-            ColouredLoad(
-                unit * _loguniform(rng, 0.005, 0.5), cutoff, int(rng.integers(1, 3)), where
-            )
-        )
+        size = _loguniform(rng, 0.005, 0.5)
+        if not oscillating:
+            cutoff = min(_loguniform(rng, 0.05, 0.5) / pu_samples, 0.45)
+            size = _loguniform(rng, 0.5, 3.0)
+        eff.append(ColouredLoad(unit * size, cutoff, int(rng.integers(1, 3)), where))
         if rng.random() < 0.5:
             eff.append(RandomWalkLoad(float(nominal * rng.uniform(0.001, 0.004))))
         drift = rng.random() < 0.3
@@ -413,6 +453,8 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
             disturbance = _pick(rng, ("sine", "narrowband", "square"))
             where = "input" if rng.random() < 0.4 else "output"
             amp = (2.0 if where == "input" else nominal) * _loguniform(rng, 0.5, 3.0)
+            if not oscillating:
+                amp *= _loguniform(rng, 0.05, 0.3)
             dist_period = ts * samples_per_cycle
             if disturbance == "sine":
                 d = SinusoidalDisturbance(amp, dist_period, rng.uniform(0, 2 * np.pi), where)
@@ -425,9 +467,10 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
                 )  # fmt: skip
             eff.append(d)
 
-        regime = _pick(
-            rng, opt["setpoint_regimes"], [_REGIME_WEIGHTS[r] for r in opt["setpoint_regimes"]]
-        )
+        regime = lopt.get("setpoint_regime")
+        if regime not in opt["setpoint_regimes"]:
+            weights = [lopt["setpoint_weights"].get(r, 0.0) for r in opt["setpoint_regimes"]]
+            regime = _pick(rng, opt["setpoint_regimes"], weights)
         if regime in ("steps", "step"):
             n_steps = int(rng.integers(1, 7)) if regime == "steps" else 1
             lo_size, hi_size = (0.2, 2.0) if regime == "steps" else (1.0, 4.0)
@@ -441,26 +484,50 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
                 CascadeSetpoint(nominal * _loguniform(rng, 0.1, 1.0), phi, rng.uniform(0.0, 0.5))
             )
 
-        colour = _pick(rng, opt["noise_colours"])
+        # PV's own variation, which OP does not explain, slower than the loop's bandwidth: at
+        # the sensor, so the controller does not act on it (seen by the controller, it is
+        # rejected and moves OP: PV and OP stay as tightly linked as without it)
+        own_lo, own_hi = lopt["pv_own_share"]
+        own, own_effect = 0.0, None
+        if own_hi > 0:
+            own = float(rng.uniform(own_lo, own_hi))
+            own_cutoff = min(_loguniform(rng, 0.1, 1.0) / pu_samples, _OWN_MAX_CUTOFF)
+            if own > 0:
+                own_effect = PVVariation(own, own_cutoff, "record", order=2)
+
+        colour = _pick(rng, lopt["noise_colours"])
         snr = float(rng.uniform(snr_lo, snr_hi))
+        # the SNR is relative to PV with its own variation, the noise's reference without it
+        snr_noise = snr + 10.0 * np.log10(1.0 - own)
         # Choudhury's model re-sticks at every OP reversal, so noise inside the loop would
         # freeze it (Kano et al. 2004); some controllers filter PV and give a smooth OP too
         path = "record" if model == "choudhury" or rng.random() < 0.35 else "loop"
         if colour == "white":
-            noise = WhiteNoise(snr_db=snr, where=path)
+            noise = WhiteNoise(snr_db=snr_noise, where=path)
         elif colour == "ar1":
-            noise = ARNoise(float(rng.uniform(0.5, 0.95)), snr_db=snr, where=path)
+            noise = ARNoise(float(rng.uniform(0.5, 0.95)), snr_db=snr_noise, where=path)
         else:
-            noise = BandLimitedNoise(_loguniform(rng, 0.03, 0.25), snr_db=snr, where=path)
+            noise = BandLimitedNoise(_loguniform(rng, 0.03, 0.25), snr_db=snr_noise, where=path)
         eff.append(noise)
+        if own_effect is not None:
+            eff.append(own_effect)
 
         # historian recording, applied after the warm-up is cut and PV units are set
         pv_scale = _loguniform(rng, 0.05, 20.0)
         pv_center = rng.uniform(20.0, 80.0)
-        rec = [noise] if path == "record" else []
+        sensor = [e for e in eff if e.kind == "recording"]
+        rec = list(sensor)
         rec_names = []
-        if opt["realism"] is not None:
-            extra = list(opt["realism"].recording_effects(rng))
+        if profile:
+            extra = list(profile.get("recording", []))
+            rec += extra
+            rec_names = [type(e).__name__ for e in extra]
+        elif realism is not None:
+            extra = list(
+                realism.recording_effects(rng, loop_type=loop_type)
+                if typed
+                else realism.recording_effects(rng)
+            )
             rec += extra
             rec_names = [type(e).__name__ for e in extra]
         elif opt["recording"] and rng.random() < opt["recording_fraction"]:
@@ -486,6 +553,7 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
                 "y": int(cause == "stiction"),
                 "plant": "integrating" if integrating else type(plant).__name__.lower(),
                 "plant_family": _family(order),
+                "loop_type": loop_type,
                 "order": plant.order,
                 "gain": plant.gain,
                 "action": "reverse" if plant.gain > 0 else "direct",
@@ -515,6 +583,8 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
                 "drift": drift,
                 "disturbance": disturbance,
                 "setpoint_regime": regime,
+                "pv_own_share": own,
+                "oscillating": oscillating,
                 "recording": "+".join(rec_names) if rec_names else "none",
                 "record_length": length,
                 "initial_op": initial_op,
@@ -524,10 +594,9 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
                 "scenario": ("slips" if loop_kind != "standard" else "limit_cycle")
                 if cause == "stiction"
                 else "",
-                "effects": ", ".join(repr(e) for e in eff + rec[1 if path == "record" else 0 :]),
+                "effects": ", ".join(repr(e) for e in eff + rec[len(sensor) :]),
             }
         )
-    del n_total
     return plants, controllers, valves, effects, records, rows
 
 
@@ -624,6 +693,27 @@ def _finish_default(X, records, n_warm, ts, rng):
     return X
 
 
+def _check_weights(weights, regimes):
+    """Setpoint regime weights: a mapping regime -> weight >= 0, positive over ``regimes``."""
+    try:
+        weights = {str(k): float(v) for k, v in dict(weights).items()}
+    except (TypeError, ValueError) as exc:
+        raise ValueError(
+            f"setpoint_weights must map regimes to weights; got {weights!r}."
+        ) from exc
+    bad = [k for k in weights if k not in SETPOINT_REGIMES]
+    if bad or any(not np.isfinite(v) or v < 0 for v in weights.values()):
+        raise ValueError(
+            f"setpoint_weights must map regimes of {SETPOINT_REGIMES} to finite weights >= 0; "
+            f"got {weights!r}."
+        )
+    if sum(weights.get(r, 0.0) for r in regimes) <= 0:
+        raise ValueError(
+            f"setpoint_weights must give a positive weight to one of {regimes}; got {weights!r}."
+        )
+    return weights
+
+
 def _check_subset(values, allowed, name):
     values = tuple(values)
     bad = [v for v in values if v not in allowed]
@@ -654,6 +744,9 @@ def make_loops(
     setpoint_regimes=None,
     recording=None,
     recording_fraction=None,
+    pv_own_share=None,
+    oscillating_fraction=None,
+    setpoint_weights=None,
     short_fraction=None,
     min_length=None,
     warmup=None,
@@ -695,8 +788,12 @@ def make_loops(
       or output: with a lightly damped loop this gives irregular,
       amplitude-modulated cycles), a random-walk load in half, a slow
       piecewise-linear drift in 30 % (the loop rejects it, OP ramps);
-    - setpoint regime: constant (35 %), 1-6 operator steps (30 %), one large
-      step (10 %), cascade setpoint moving on every sample (25 %);
+    - setpoint regime (weights ``setpoint_weights``): constant (35 %), 1-6
+      operator steps (30 %), one large step (10 %), cascade setpoint moving on
+      every sample (25 %);
+    - quiet loops in a share ``1 - oscillating_fraction`` (none by default) and PV's
+      own variation, a share of the PV variance in ``pv_own_share`` (none by
+      default);
     - measurement noise: white, AR(1) or band-limited, SNR uniform in
       ``snr_db_range`` dB, seen by the controller or (35 %, and always with
       Choudhury's valve, which noise in the loop would freeze) on the record
@@ -789,6 +886,26 @@ def make_loops(
         sample interval averages.
     recording_fraction : float, default 0.5
         Default world only: share of loops with historian recording effects.
+    pv_own_share : tuple of float, default (0.0, 0.0)
+        Default world only: range (0-0.95) of the share of the recorded PV variance
+        that PV's own variation carries, drawn uniformly per loop: a slow low-pass
+        component (second order, corner at 0.1-1 times the loop's ultimate frequency,
+        at most 0.05 cycles per sample) added at the sensor, which the controller does
+        not act on and OP does not explain
+        (:class:`~sktiction.simulation.disturbances.PVVariation`). It scales the PV-OP
+        correlation by about ``sqrt(1 - share)``; the measurement noise's SNR stays
+        relative to PV with this component. Detected by ``pv_op_corr``.
+    oscillating_fraction : float, default 1.0
+        Default world only: share (0-1) of loops whose cycle has its drive on; the
+        others, of every cause alike, are quiet: sluggish integral action (``Ti`` x
+        3-20), large slow process variation (load 0.5-3 times the nominal, corner
+        at 0.05-0.5 times the ultimate frequency) and, for external disturbances, an
+        oscillation 0.05-0.3 times as large. Detected by ``acf_peak``.
+    setpoint_weights : mapping, default see above
+        Default world only: weight of each setpoint regime of ``setpoint_regimes``
+        (regimes left out weigh 0; default ``{"constant": 0.35, "steps": 0.3,
+        "step": 0.1, "cascade": 0.25}``). Detected by ``sp_steps`` and
+        ``sp_change_fraction``.
     short_fraction : float, default 0.25
         Default world only: share of loops with a shortened record.
     min_length : int, default 200
@@ -800,8 +917,15 @@ def make_loops(
         Default world only: a calibrated world from
         :func:`sktiction.realism.calibrate`: a mapping ``realism.overrides`` of
         keyword arguments of this function (explicit arguments win) and a method
-        ``realism.recording_effects(rng)`` returning the recording effects of one
-        loop (replacing the draw from ``recording``).
+        ``realism.recording_effects(rng, loop_type=None)`` returning the recording
+        effects of one loop of that type (replacing the draw from ``recording``;
+        ``loop_type`` is passed when the method takes it). With a method
+        ``realism.loop_profile(rng)`` each loop instead copies one measured loop's
+        profile: its loop type sets the plant type (``"level"``: integrating;
+        ``"flow"``, ``"pressure"``: first or second order; others: any), its
+        settings (``snr_db_range``, ``noise_colours``, ``pv_own_share``,
+        ``oscillating_fraction``, ``setpoint_regime``) and its recording effects are
+        the loop's.
     random_state : None, int or numpy.random.Generator, default=None
         Seed for reproducible output.
     return_meta : bool, default=False
@@ -821,6 +945,9 @@ def make_loops(
         ``snr_db``, ``scenario``, ``effects``; the default world adds
         ``plant_family``, ``action``, ``loop_kind``, ``kc_factor``, ``ti_factor``,
         ``gain_margin``, ``samples_per_ultimate_period``, ``noise_colour``,
+        ``loop_type`` (``"level"`` for integrating plants, ``"flow"`` first order,
+        ``"pressure"`` second order, ``"temperature"`` higher; a calibrated world's
+        profile type when it has one), ``pv_own_share``, ``oscillating``,
         ``noise_path``, ``drift``, ``disturbance``, ``setpoint_regime``,
         ``recording``, ``record_length``, ``initial_op``, ``pv_scale``,
         ``pv_center``, ``warmup``, ``pv_per_valve`` (PV change of a unit valve move:
@@ -854,7 +981,9 @@ def make_loops(
         "slip_fraction": slip_fraction, "rules": rules, "gain_margin_range": gain_margin_range,
         "noise_colours": noise_colours, "setpoint_regimes": setpoint_regimes,
         "recording": recording, "recording_fraction": recording_fraction,
-        "short_fraction": short_fraction, "min_length": min_length, "warmup": warmup,
+        "pv_own_share": pv_own_share, "oscillating_fraction": oscillating_fraction,
+        "setpoint_weights": setpoint_weights, "short_fraction": short_fraction,
+        "min_length": min_length, "warmup": warmup,
     }  # fmt: skip
     defaults = _DEFAULT_DEFAULTS if world == "default" else _CLASSIC_DEFAULTS
     if world == "classic":
@@ -873,7 +1002,7 @@ def make_loops(
                 f"allowed: {sorted(defaults)}."
             )
         if not callable(getattr(realism, "recording_effects", None)):
-            raise ValueError("realism must have a method recording_effects(rng).")
+            raise ValueError("realism must have a method recording_effects(rng, loop_type).")
     opt = {
         k: (given[k] if given[k] is not None else overrides.get(k, defaults[k])) for k in defaults
     }
@@ -956,8 +1085,10 @@ def _check_default_options(opt, orders, n_samples, realism):
     if bad:
         raise ValueError(f"recording must be a subset of {RECORDING_EFFECTS}; got {rec!r}.")
     opt["recording"] = rec
-    for name in ("recording_fraction", "short_fraction"):
+    for name in ("recording_fraction", "short_fraction", "oscillating_fraction"):
         opt[name] = check_positive(opt[name], name, strict=False, upper=1.0)
+    opt["pv_own_share"] = _check_range(opt["pv_own_share"], "pv_own_share", lo=0.0, hi=0.95)
+    opt["setpoint_weights"] = _check_weights(opt["setpoint_weights"], opt["setpoint_regimes"])
     if not isinstance(opt["min_length"], numbers.Integral) or opt["min_length"] < 20:
         raise ValueError(f"min_length must be an integer >= 20; got {opt['min_length']!r}.")
     if opt["warmup"] is None:

@@ -121,17 +121,52 @@ def _band(stats):
     return np.where(count > 0, np.where(ok, both, 0.0).sum(axis=0) / np.maximum(count, 1), np.nan)
 
 
-def _fit_snr(stats):
-    # noise_level = noise sd / 5-95 % error range; a Gaussian-like error spans about 3.3 sd
+def snr_per_loop(stats):
+    """First guess of each loop's SNR (dB) from its noise level (NaN without one).
+
+    ``noise_level`` is the noise sd over the error's 5-95 % range; a Gaussian-like error
+    spans about 3.3 sd, the rest of its variance is signal.
+    """
     level = _col(stats, "noise_level")
-    level = level[np.isfinite(level) & (level > 0)]
-    if len(level) == 0:
-        return {}
+    ok = np.isfinite(level) & (level > 0)
+    level = np.where(ok, level, 1.0)
     err_sd = 1.0 / 3.3
     signal = np.sqrt(np.maximum(err_sd**2 - level**2, (0.1 * level) ** 2))
-    snr = np.clip(20 * np.log10(signal / level), -10.0, 60.0)
+    return np.where(ok, np.clip(20 * np.log10(signal / level), -10.0, 60.0), np.nan)
+
+
+def _fit_snr(stats):
+    snr = snr_per_loop(stats)
+    snr = snr[np.isfinite(snr)]
+    if len(snr) == 0:
+        return {}
     lo, hi = np.percentile(snr, [10, 90])
     return {"snr_db_range": (float(lo), float(max(hi, lo + 1.0)))}
+
+
+def setpoint_regime_per_loop(stats):
+    """Each loop's setpoint regime (``make_loops`` names), None without a recorded SP."""
+    has_sp = stats["has_sp"].to_numpy(dtype=bool)
+    share = _col(stats, "sp_change_fraction")
+    steps = _col(stats, "sp_steps")
+    out = np.full(len(stats), None, dtype=object)
+    out[has_sp & (share == 0)] = "constant"
+    out[has_sp & (steps == 1)] = "step"
+    out[has_sp & (steps >= 2)] = "steps"
+    out[has_sp & (share > _CASCADE_SHARE)] = "cascade"
+    return out
+
+
+def oscillating_per_loop(stats):
+    """Loops that oscillate: an ACF peak of the error above 0.3 (NaN peak: not oscillating)."""
+    return np.nan_to_num(_col(stats, "acf_peak")) > _OSCILLATING_ACF
+
+
+def _fit_oscillating(stats):
+    acf = _col(stats, "acf_peak")
+    if np.isfinite(acf).sum() == 0:
+        return {}
+    return {"oscillating_fraction": float(oscillating_per_loop(stats)[np.isfinite(acf)].mean())}
 
 
 def _fit_period(stats):
@@ -145,21 +180,16 @@ def _fit_period(stats):
 
 
 def _fit_setpoint(stats):
+    """Regime weights: the share of loops with SP in each regime, plus half a loop each (a
+    regime not seen in a few loops is rare, not impossible)."""
     if "has_sp" not in stats or not stats["has_sp"].any():
         return {}
-    s = stats[stats["has_sp"]]
-    share = _col(s, "sp_change_fraction")
-    steps = _col(s, "sp_steps")
-    regimes = []
-    if np.any(share == 0):
-        regimes.append("constant")
-    if np.any((steps >= 2) & np.isfinite(steps)):
-        regimes.append("steps")
-    if np.any(steps == 1):
-        regimes.append("step")
-    if np.any(share > _CASCADE_SHARE):
-        regimes.append("cascade")
-    return {"setpoint_regimes": tuple(regimes)} if regimes else {}
+    regimes = setpoint_regime_per_loop(stats)
+    regimes = regimes[[r is not None for r in regimes]]
+    names = ("constant", "steps", "step", "cascade")
+    counts = {r: float(np.sum(regimes == r)) + 0.5 for r in names}
+    total = sum(counts.values())
+    return {"setpoint_weights": {r: c / total for r, c in counts.items()}}
 
 
 def _fit_colour(stats):
@@ -318,7 +348,7 @@ _ENTRIES = [
         "setpoint_steps",
         "sp_steps",
         "world",
-        "operator setpoint steps (make_loops setpoint_regimes 'step', 'steps')",
+        "operator setpoint steps (make_loops setpoint_weights of 'step', 'steps')",
         "cascade setpoints are counted apart (more than 20 % of samples moving); absent SP "
         "gives NaN, not 0.",
         fit=_fit_setpoint,
@@ -327,7 +357,7 @@ _ENTRIES = [
         "cascade_setpoint",
         "sp_change_fraction",
         "world",
-        "remote setpoint moving on most samples (make_loops setpoint_regimes 'cascade')",
+        "remote setpoint moving on most samples (make_loops setpoint_weights of 'cascade')",
         "a noisy recorded SP would also move on most samples.",
         fit=_fit_setpoint,
     ),
@@ -335,15 +365,21 @@ _ENTRIES = [
         "oscillation_regularity",
         "acf_peak",
         "world",
-        "clean limit cycles vs noise-driven, lightly damped loops (gain margin, noise colour)",
-        "setpoint steps and drift are removed (error, detrended); short records give noisy ACFs.",
+        "share of loops that oscillate at all (make_loops oscillating_fraction: quiet loops "
+        "of every cause are noise- and load-driven); noise-driven, lightly damped loops "
+        "(gain margin, noise colour)",
+        "setpoint steps and drift are removed (error, detrended); short records give noisy "
+        "ACFs; heavy noise or PV's own variation lowers the peak of a loop that does cycle.",
+        fit=_fit_oscillating,
     ),
     RealismEffect(
         "pv_op_phase",
         "pv_op_corr",
         "world",
-        "PV following OP in phase: averaging level control, slow loops (make_loops world)",
-        "a common slow trend correlates PV and OP (both detrended first).",
+        "PV following OP in phase (averaging level control, slow loops); PV's own variation "
+        "that OP does not explain lowers it (make_loops pv_own_share, PVVariation)",
+        "a common slow trend correlates PV and OP (both detrended first); heavy white noise "
+        "also lowers it (told apart by noise_level).",
     ),
     RealismEffect(
         "sampling",

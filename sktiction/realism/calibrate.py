@@ -8,11 +8,31 @@ import numpy as np
 import pandas as pd
 
 from .._validation import CHANNELS, check_loops, check_random_state_seed
-from ._catalog import EFFECTS, effect_names
+from ._catalog import (
+    EFFECTS,
+    effect_names,
+    oscillating_per_loop,
+    setpoint_regime_per_loop,
+    snr_per_loop,
+)
 from .compare import as_statistics
 from .statistics import loop_statistics
 
 __all__ = ["Realism", "calibrate", "apply_effects", "apply_recording"]
+
+# A simulated loop copies a measured loop's SNR within +- this many dB ...
+_SNR_SPREAD = 6.0
+# ... and its share of PV's own variation within +- this much.
+_SHARE_SPREAD = 0.2
+# Noise whose second differences are this white (noise_colour below) is white noise.
+_WHITE = 0.3
+# Median PV-OP correlation of make_loops' default world without PV's own variation; the
+# reference when no pilot simulation measures it (refine=False).
+_CORR_REFERENCE = 0.7
+# Largest share of PV's own variation fitted (the rest of PV must still follow the loop).
+_MAX_SHARE = 0.9
+# Fewest measured loops of a type for settings fitted to that type alone.
+_MIN_TYPE_LOOPS = 5
 
 
 def _make_loops_arguments():
@@ -56,10 +76,11 @@ class Realism:
     ['HoldLastValue']
     """
 
-    def __init__(self, profiles, overrides, statistics):
+    def __init__(self, profiles, overrides, statistics, snr_shift=0.0):
         self.profiles = profiles
         self.overrides = dict(overrides)
         self.statistics = statistics
+        self.snr_shift = float(snr_shift)
 
     def _pool(self, loop_type):
         if loop_type is not None:
@@ -67,6 +88,58 @@ class Realism:
             if len(sub):
                 return sub
         return self.profiles
+
+    def loop_profile(self, rng):
+        """One simulated loop's profile, copied from a measured loop drawn at random.
+
+        ``make_loops(..., realism=...)`` calls it once per loop: the measured loop's type sets
+        the simulated plant's type (level: integrating; flow, pressure: first or second
+        order; others: any), its world settings (``PROFILE_SETTINGS``: noise level and
+        colour, PV's own variation, oscillating or quiet, setpoint regime) and its recording
+        effects are the simulated loop's. Drawn without regard to the cause, so sticky and
+        healthy loops get the same mix.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator, int or None
+
+        Returns
+        -------
+        profile : dict
+            ``loop_type`` (str), ``settings`` (dict of ``make_loops`` arguments for this
+            loop; ``setpoint_regime`` names the regime itself) and ``recording`` (list of
+            Effect).
+        """
+        rng = check_random_state_seed(rng)
+        if len(self.profiles) == 0:
+            return {"loop_type": None, "settings": {}, "recording": []}
+        w = self.profiles["weight"].to_numpy(dtype=float) if "weight" in self.profiles else None
+        if w is None or not np.isfinite(w).all() or w.sum() <= 0:
+            row = self.profiles.iloc[int(rng.integers(len(self.profiles)))]
+        else:
+            idx = int(np.searchsorted(np.cumsum(w / w.sum()), rng.random(), side="right"))
+            row = self.profiles.iloc[min(idx, len(w) - 1)]
+        settings = {}
+        snr = row.get("snr_db", np.nan)
+        if np.isfinite(snr):
+            snr += self.snr_shift
+            settings["snr_db_range"] = (snr - _SNR_SPREAD, snr + _SNR_SPREAD)
+        if row.get("white_noise", False):
+            settings["noise_colours"] = ("white",)
+        share = row.get("pv_own_share", np.nan)
+        if np.isfinite(share):
+            settings["pv_own_share"] = (
+                float(max(share - _SHARE_SPREAD, 0.0)), float(min(share + _SHARE_SPREAD, 0.95))
+            )
+        if np.isfinite(row.get("oscillating", np.nan)):
+            settings["oscillating_fraction"] = float(row["oscillating"])
+        if isinstance(row.get("setpoint_regime"), str):
+            settings["setpoint_regime"] = row["setpoint_regime"]
+        return {
+            "loop_type": row["loop_type"],
+            "settings": settings,
+            "recording": self._effects(row),
+        }
 
     def recording_effects(self, rng, loop_type=None):
         """Recording effects for one simulated loop, copied from a random measured loop.
@@ -87,7 +160,10 @@ class Realism:
         pool = self._pool(loop_type)
         if len(pool) == 0:
             return []
-        row = pool.iloc[int(rng.integers(len(pool)))]
+        return self._effects(pool.iloc[int(rng.integers(len(pool)))])
+
+    @staticmethod
+    def _effects(row):
         out = []
         for name in effect_names("recording"):
             if not bool(row[name]):
@@ -145,7 +221,7 @@ class Realism:
         return f"Realism(n_loops={len(self.profiles)}, {shares or 'no recording effects'})"
 
 
-def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
+def calibrate(measured, *, loop_types=None, groups=None, refine=True, random_state=None):
     """Fit the catalog's recording effects and world settings to measured loops.
 
     Each measured loop's statistics say which recording effects of
@@ -162,6 +238,10 @@ def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
     loop_types : array-like of str or None, default=None
         Loop type of each measured loop (overrides the Bunch's); profiles can then be drawn
         per type with ``Realism.recording_effects(rng, loop_type=...)``.
+    groups : array-like or None, default=None
+        Group of each measured loop, e.g. its valve tag: ``loop_profile`` then draws every
+        group equally often (each loop with weight ``1 / loops in its group``), so that a
+        valve recorded in many windows does not set the world alone.
     refine : bool, default=True
         Refine with pilot simulations of ``make_loops(..., realism=...)`` (a few seconds;
         needs its ``realism`` argument): the mix of noise colours whose simulated
@@ -204,6 +284,29 @@ def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
             f"got {len(loop_types)}."
         )
     profiles = pd.DataFrame({"loop_type": loop_types})
+    if groups is not None:
+        groups = np.asarray(groups).astype(str)
+        if len(groups) != len(stats):
+            raise ValueError(
+                f"groups must have one entry per measured loop ({len(stats)}); "
+                f"got {len(groups)}."
+            )
+        _, inverse, counts = np.unique(groups, return_inverse=True, return_counts=True)
+        profiles["weight"] = 1.0 / counts[inverse]
+    # world settings of each measured loop, copied with its recording by loop_profile
+    profiles["snr_db"] = snr_per_loop(stats)
+    colour = stats["noise_colour"].to_numpy(dtype=float)
+    profiles["white_noise"] = np.isfinite(colour) & (colour < _WHITE)
+    # probability that a simulated loop copying this one has its cycle's drive on (1 or 0
+    # until the pilot simulations correct it for loops that cycle without showing it)
+    profiles["oscillating"] = oscillating_per_loop(stats).astype(float)
+    profiles["setpoint_regime"] = setpoint_regime_per_loop(stats)
+    profiles["pv_op_corr"] = stats["pv_op_corr"].to_numpy(dtype=float)
+    # first guess (refined per loop type by a pilot): the median correlation lowered from
+    # the default world's
+    corr = profiles["pv_op_corr"].to_numpy()
+    first = _own_share(np.nanmedian(corr), _CORR_REFERENCE) if np.isfinite(corr).any() else 0.0
+    profiles["pv_own_share"] = float(first)
     for name in effect_names("recording"):
         entry = EFFECTS[name]
         on = np.asarray(entry.present(stats), dtype=bool)
@@ -221,83 +324,135 @@ def calibrate(measured, *, loop_types=None, refine=True, random_state=None):
             overrides.update({k: v for k, v in fit(stats).items() if k in allowed})
     realism = Realism(profiles, overrides, stats)
     if refine and "realism" in allowed:
-        if "noise_colours" in allowed:
-            _refine_colours(realism, random_state)
-        if "snr_db_range" in overrides:
-            _refine_snr(realism, random_state)
+        rng = check_random_state_seed(random_state)
+        _refine_snr(realism, rng)
+        _refine_own_share(realism, rng)
+        _refine_snr(realism, rng, n_steps=1)
+        _refine_oscillating(realism, rng)
+    share = realism.profiles["pv_own_share"].to_numpy(dtype=float)
+    if "pv_own_share" in allowed and np.isfinite(share).any():
+        lo, hi = np.nanpercentile(share, [10, 90])
+        realism.overrides["pv_own_share"] = (float(lo), float(hi))
     return realism
 
 
-# Noise colour mixes tried by the pilot simulations (names of make_loops' noise_colours).
-_COLOUR_MIXES = (
-    ("white",),
-    ("white", "ar1"),
-    ("white", "ar1", "bandlimited"),
-    ("white", "bandlimited"),
-    ("ar1",),
-    ("ar1", "bandlimited"),
-    ("bandlimited",),
-)
+def _own_share(corr, reference):
+    """Share of PV's own variation that lowers a PV-OP correlation from ``reference`` to
+    ``corr``: a component uncorrelated with OP carrying a share ``s`` of the PV variance scales
+    the correlation by ``sqrt(1 - s)``."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        share = 1.0 - (float(corr) / float(reference)) ** 2
+    return float(np.clip(share, 0.0, _MAX_SHARE)) if np.isfinite(share) else 0.0
 
 
-def _cliff(a, b):
-    from scipy.stats import mannwhitneyu
-
-    a, b = a[np.isfinite(a)], b[np.isfinite(b)]
-    if len(a) < 5 or len(b) < 5:
-        return np.inf
-    return abs(2.0 * mannwhitneyu(a, b).statistic / (len(a) * len(b)) - 1.0)
-
-
-def _refine_colours(realism, random_state, n_loops=60, n_samples=600):
-    """Pick the noise-colour mix whose simulated ``noise_colour`` is closest to the measured.
-
-    One pilot simulation per mix of :data:`_COLOUR_MIXES`; closeness is |Cliff's delta|.
-    """
+def _pilot(realism, rng, n_loops=80, n_samples=600, **kwargs):
     from ..datasets import make_loops
 
-    measured = realism.statistics["noise_colour"].to_numpy(dtype=float)
-    if np.isfinite(measured).sum() < 5:
+    X, _, meta = make_loops(
+        n_loops, n_samples, realism=realism, random_state=rng, return_meta=True, **kwargs
+    )
+    return loop_statistics(X), meta
+
+
+def _refine_oscillating(realism, rng, n_loops=150):
+    """Fit the share of loops whose cycle's drive is on (``oscillating_fraction``).
+
+    A loop with its drive on need not show a cycle (a healthy loop without a disturbance
+    never does, noise hides others) and a quiet one may ring. Two pilots, every drive on and
+    every drive off, give the shares ``p1`` and ``p0`` of loops whose ACF peak passes 0.3;
+    the measured share ``m`` then asks for ``f = (m - p0) / (p1 - p0)`` (clipped to 0-1).
+    Each measured loop that cycles turns the drive on with probability ``min(1, f / m)``,
+    each quiet one with ``max(0, (f - m) / (1 - m))``, so that the shares add up to ``f``.
+    """
+    prof = realism.profiles
+    measured = oscillating_per_loop(realism.statistics)
+    if "oscillating_fraction" not in realism.overrides or len(prof) < 5:
         return
-    rng = check_random_state_seed(random_state)
-    best, best_d = None, np.inf
-    for mix in _COLOUR_MIXES:
-        trial = Realism(realism.profiles, {**realism.overrides, "noise_colours": mix},
-                        realism.statistics)  # fmt: skip
-        try:
-            X, _ = make_loops(n_loops, n_samples, realism=trial, random_state=rng)
-        except ValueError:  # a colour this make_loops does not know
-            continue
-        d = _cliff(loop_statistics(X)["noise_colour"].to_numpy(dtype=float), measured)
-        if d < best_d:
-            best, best_d = mix, d
-    if best is not None:
-        realism.overrides["noise_colours"] = best
+    m = float(measured.mean())
+    saved = prof["oscillating"].copy()
+    p = []
+    try:
+        for drive in (1.0, 0.0):
+            prof["oscillating"] = drive
+            stats, _ = _pilot(realism, rng, n_loops=n_loops)
+            p.append(float(oscillating_per_loop(stats).mean()))
+    finally:
+        prof["oscillating"] = saved
+    p1, p0 = p
+    if p1 - p0 < 0.05:  # the pilots cannot tell drives apart: keep the measured share
+        return
+    f = float(np.clip((m - p0) / (p1 - p0), 0.0, 1.0))
+    on = min(1.0, f / m) if m > 0 else 0.0
+    off = max(0.0, (f - m) / (1.0 - m)) if m < 1 else 0.0
+    prof["oscillating"] = np.where(measured, on, off)
+    realism.overrides["oscillating_fraction"] = f
 
 
-def _refine_snr(realism, random_state, n_loops=80, n_samples=600, n_steps=2):
-    """Shift the SNR range so that the simulated median noise level matches the measured one.
+def _type_medians(values, types, wanted, overall):
+    """Median of ``values`` per loop type in ``wanted`` where at least ``_MIN_TYPE_LOOPS``
+    finite values of that type exist, else ``overall``."""
+    ok = np.isfinite(values)
+    out = {}
+    for lt in wanted:
+        here = ok & (types == lt)
+        out[lt] = float(np.median(values[here])) if here.sum() >= _MIN_TYPE_LOOPS else overall
+    return out
+
+
+def _refine_own_share(realism, rng, n_loops=120, n_steps=2):
+    """Fit the share of PV's own variation per loop type from pilot simulations.
+
+    The first pilot (``n_loops`` loops of the calibrated world, no own variation) gives the
+    PV-OP correlation each loop type has in simulation; the type's share lowers the median of
+    that reference to the measured median (medians, so that loops whose correlation is low
+    for other reasons move nothing; per loop type where both sides hold at least
+    ``_MIN_TYPE_LOOPS`` loops of it, else over all loops). Detrending and the noise take part
+    of the component away, so ``n_steps`` further pilots correct the share,
+    ``1 - s <- (1 - s) (measured / simulated)**2``, until the medians agree.
+    """
+    prof = realism.profiles
+    corr = prof["pv_op_corr"].to_numpy(dtype=float)
+    if np.isfinite(corr).sum() < 5:
+        return
+    types = prof["loop_type"].to_numpy()
+    wanted = sorted(set(types))
+    measured = _type_medians(corr, types, wanted, float(np.nanmedian(corr)))
+    share = dict.fromkeys(wanted, 0.0)
+    for step in range(n_steps + 1):
+        prof["pv_own_share"] = [share[lt] for lt in types]
+        stats, meta = _pilot(realism, rng, n_loops=n_loops)
+        sim = stats["pv_op_corr"].to_numpy(dtype=float)
+        if np.isfinite(sim).sum() < 10:
+            break
+        simulated = _type_medians(sim, meta["loop_type"].to_numpy(), wanted,
+                                  float(np.nanmedian(sim)))  # fmt: skip
+        for lt in wanted:
+            keep = 1.0 - share[lt] if step else 1.0
+            share[lt] = _own_share(np.sqrt(keep) * measured[lt], simulated[lt])
+    prof["pv_own_share"] = [share[lt] for lt in types]
+
+
+def _refine_snr(realism, rng, n_loops=80, n_samples=600, n_steps=2):
+    """Shift every loop's SNR so that the simulated median noise level matches the measured.
 
     The first guess maps each loop's noise level (noise sd over the error's 5-95 % range) to
     an SNR as if the error were Gaussian; in the simulated world loads, setpoint moves, the
-    noise path and recording change that ratio. Each step simulates ``n_loops`` loops with the
-    current settings and moves both ends of the range by the dB between the simulated and
-    the measured median noise levels.
+    noise path, PV's own variation and recording change that ratio. Each step simulates
+    ``n_loops`` loops of the calibrated world and moves every loop's SNR (and the
+    ``snr_db_range`` override) by the dB between the simulated and measured median levels.
     """
-    from ..datasets import make_loops
-
     measured = realism.statistics["noise_level"].to_numpy(dtype=float)
     measured = measured[np.isfinite(measured) & (measured > 0)]
-    if len(measured) < 5:
+    if len(measured) < 5 or "snr_db_range" not in realism.overrides:
         return
-    rng = check_random_state_seed(random_state)
     for _ in range(n_steps):
-        X, _ = make_loops(n_loops, n_samples, realism=realism, random_state=rng)
-        level = loop_statistics(X)["noise_level"].to_numpy(dtype=float)
+        stats, _ = _pilot(realism, rng, n_loops=n_loops, n_samples=n_samples)
+        level = stats["noise_level"].to_numpy(dtype=float)
         level = level[np.isfinite(level) & (level > 0)]
         if len(level) < 5:
             return
-        shift = 20 * np.log10(np.median(level) / np.median(measured))
+        shift = float(np.clip(20 * np.log10(np.median(level) / np.median(measured)), -20, 20))
+        realism.snr_shift += shift
         lo, hi = realism.overrides["snr_db_range"]
         lo, hi = float(np.clip(lo + shift, -20, 60)), float(np.clip(hi + shift, -20, 60))
         realism.overrides["snr_db_range"] = (lo, max(hi, lo + 1.0))

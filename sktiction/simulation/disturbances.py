@@ -7,6 +7,9 @@ Jelali & Huang 2010, ch. 2, among the confounders of stiction detection):
 * :class:`BandLimitedNoise`: low-pass measurement noise (sensor and transmitter
   filtering), by standard deviation or SNR like
   :class:`~sktiction.simulation.WhiteNoise`.
+* :class:`PVVariation`: PV's own variation, which OP does not explain: a slow
+  low-pass component that makes up a given share of the PV variance, at the
+  sensor (the controller never acts on it) or seen by the controller.
 * :class:`ColouredLoad`: process noise, white noise through a low-pass filter,
   added at the plant output or input. Through a lightly damped loop it gives
   the irregular, amplitude-modulated oscillations of noise-driven loops.
@@ -35,6 +38,7 @@ from .effects import Effect, WhiteNoise
 
 __all__ = [
     "BandLimitedNoise",
+    "PVVariation",
     "ColouredLoad",
     "NarrowbandDisturbance",
     "SquareDisturbance",
@@ -99,6 +103,58 @@ class BandLimitedNoise(WhiteNoise):
 
     def _unit(self, n_samples, rng):
         return _lowpass_unit(n_samples, self.cutoff, self.order, rng)
+
+
+class PVVariation(BandLimitedNoise):
+    """PV's own variation: a low-pass component carrying a share of the PV variance.
+
+    Measured PV carries variation that OP does not explain: coloured sensor noise,
+    disturbances entering at the sensor or after the valve, process variation the
+    controller does not act on. This adds such a component of unit-variance shape
+    (``order`` equal first-order lags at ``cutoff``) scaled so that it makes up
+    ``share`` of the variance of PV plus component: its standard deviation is
+    ``sqrt(share / (1 - share))`` times the reference PV's (the recorded PV's over its
+    second half at the sensor, ``where="record"``; the noise-free pilot run's when the
+    controller sees it, ``where="loop"``). It is :class:`BandLimitedNoise` with
+    ``snr_db = 10 log10((1 - share) / share)``. It lowers the PV-OP correlation
+    (``pv_op_corr`` of :func:`sktiction.realism.loop_statistics`) towards
+    ``sqrt(1 - share)`` of its value without it.
+
+    Parameters
+    ----------
+    share : float
+        Share of the PV variance, ``0 < share < 1``.
+    cutoff : float
+        Cut-off frequency in cycles per sample, ``0 < cutoff < 0.5``.
+    where : {"record", "loop"}, default="record"
+        ``"record"``: at the sensor, the controller never sees it (a recording effect);
+        ``"loop"``: in the measurement the controller acts on (an exogenous effect).
+    order : int, default=1
+        Filter order (1-4).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation.disturbances import PVVariation
+    >>> pv = np.sin(np.arange(4000) / 20)
+    >>> rec = PVVariation(0.5, 0.01).record({"pv": pv}, 1.0, np.random.default_rng(0))
+    >>> u = rec["pv"] - pv
+    >>> bool(0.35 < u.var() / (u.var() + pv[2000:].var()) < 0.65)
+    True
+    """
+
+    def __init__(self, share, cutoff, where="record", order=1):
+        if not (isinstance(share, (int, float)) and 0 < share < 1):
+            raise ValueError(f"share must be a number with 0 < share < 1; got {share!r}.")
+        self.share = float(share)
+        super().__init__(
+            cutoff, snr_db=10.0 * np.log10((1.0 - self.share) / self.share), where=where,
+            order=order,
+        )  # fmt: skip
+
+    def _params(self):
+        return {"share": self.share, "cutoff": self.cutoff, "where": self.where,
+                "order": self.order}  # fmt: skip
 
 
 class ColouredLoad(Effect):
