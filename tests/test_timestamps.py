@@ -200,3 +200,84 @@ def test_a_hole_far_longer_than_the_record_is_refused():
         regularise(np.r_[np.arange(9.0), 40.0], np.zeros(10))
     grid = regularise(np.r_[np.arange(9.0), 39.0], np.zeros(10))[0]  # 40 steps: 4x, allowed
     assert len(grid) == 40
+
+
+# ---- edge cases found by mutation testing ------------------------------------------------
+
+
+def test_excel_fractions_of_a_second_and_a_repeated_value():
+    v = EXCEL + np.array([0.5, 0.7504, 1.0]) / 86400  # 0.2504 s rounds to 0.250
+    t, start, _ = parse_times(pd.Series(v))
+    np.testing.assert_array_equal(t, [0.0, 0.25, 0.5])
+    assert start == pd.Timestamp("2024-10-17 21:55:00.5")
+    assert _numeric_unit(np.array([EXCEL, EXCEL])) == "s"  # no step: not days
+
+
+def test_text_formats_pandas_has_to_guess():
+    # two layouts in one column: only the mixed parser reads both
+    mixed = pd.Series(["2024-10-17 21:55:00", "17 Oct 2024 21:55:05"], dtype="str")
+    assert parse_times(mixed)[0].tolist() == [0.0, 5.0]
+    padded = pd.Series(["  2024-10-17 21:55:00 ", " 2024-10-17 21:55:05"], dtype="str")
+    assert parse_times(padded)[0].tolist() == [0.0, 5.0]
+    # a bad value in the sample: the format that reads most of it (not the first tried)
+    t = parse_times(pd.Series(["17.10.2024 21:55:00", "17.10.2024 21:55:05", "x"], dtype="str"))[0]
+    np.testing.assert_array_equal(t, [0.0, 5.0, np.nan])
+    t = parse_times(pd.Series(["17.10.2024 21:55:00", "x"], dtype="str"))[0]  # half: enough
+    np.testing.assert_array_equal(t, [0.0, np.nan])
+    with pytest.raises(TimeError, match="first: 'monday'"):
+        parse_times(pd.Series(["monday", "tuesday"], dtype="str"))
+    with pytest.raises(TimeError, match="first bad value: 'x0'"):
+        good = [str(pd.Timestamp("2024-10-17") + pd.Timedelta(seconds=s)) for s in range(200)]
+        parse_times(pd.Series(good + [f"x{i}" for i in range(201)], dtype="str"))
+    # half numbers, half words: not a numeric time column, and not times
+    with pytest.raises(TimeError, match="values are not times"):
+        parse_times(pd.Series(["10", "20", "x", "y"], dtype=object))
+
+
+def test_month_first_settled_after_the_sample():
+    # every 84 min from 1 January: the first 200 rows have days <= 12, day 13 comes later
+    start = pd.Timestamp("2024-01-01")
+    rows = [
+        (start + pd.Timedelta(minutes=84 * i)).strftime("%m/%d/%Y %H:%M:%S") for i in range(250)
+    ]
+    t, first, notes = parse_times(pd.Series(rows, dtype="str"))
+    np.testing.assert_array_equal(t, 84 * 60.0 * np.arange(250))
+    assert first == start and notes == []
+
+
+def test_the_declared_format_beats_a_guess():
+    raw = pd.Series(["03-04-2024 10:00:00", "03-05-2024 10:00:00"], dtype="str")
+    t, start, _ = parse_times(raw, time_format="%d-%m-%Y %H:%M:%S")  # 3 April, 3 May
+    assert t.tolist() == [0.0, 30 * 86400.0] and start == pd.Timestamp("2024-04-03 10:00")
+
+
+def test_a_step_back_of_up_to_12_hours_is_not_midnight():
+    h = 3600.0
+    assert parse_times(pd.Series(["22:00:00", "12:00:00"], dtype="str"))[0].tolist() == [10 * h, 0]
+    assert parse_times(pd.Series(["22:00:00", "10:00:00"], dtype="str"))[0].tolist() == [12 * h, 0]
+
+
+def test_grid_from_a_late_start():
+    t = 1000.0 + np.array([0.0, 10, 21, 30, 40])
+    grid, out, step, _ = regularise(t, t - 1000.0)
+    assert grid.tolist() == [1000, 1010, 1020, 1030, 1040]
+    np.testing.assert_allclose(out[:, 0], [0, 10, 20, 30, 40])
+    with pytest.raises(TimeError, match="the records span 40 s, 41 steps for 10 rows"):
+        regularise(100.0 + np.r_[np.arange(9.0), 40.0], np.zeros(10))
+
+
+def test_file_order_decides_among_many_duplicates():
+    t = np.r_[np.arange(50, 0, -1), np.arange(50, 0, -1)].astype(float)
+    grid, out, _, notes = regularise(t, np.arange(100.0))
+    assert grid.tolist() == list(range(1, 51))
+    np.testing.assert_array_equal(out[:, 0], np.arange(49, -1, -1))  # the first rows' values
+    assert notes[1] == "50 duplicated timestamps: kept the first row of each"
+
+
+def test_last_sample_on_the_grid_next_to_nan_and_gap_counts():
+    grid, out, _, _ = regularise(np.array([0.0, 10, 21, 30]), np.array([0.0, 1, np.nan, 3]))
+    assert out[-1, 0] == 3.0 and np.isnan(out[2, 0])
+    # one interval of exactly 3 steps (bridged), one of 4 (a gap)
+    t = np.array([0.0, 10, 20, 50, 60, 100, 110, 115])
+    notes = regularise(t, t.copy())[3]
+    assert notes[0].endswith("; 1 time gap longer than 3 steps left as NaN (3 rows)")
