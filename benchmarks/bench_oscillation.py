@@ -1,16 +1,19 @@
 """Oscillation detection on simulated signals with known truth, one class per failure mode.
 
-Issue 9 lists how real oscillations are missed: irregular cycles, noise-driven (lightly
-damped) oscillations, two frequencies at once, a drift hiding the first ACF lobe,
-intermittent stretches, short periods (about 10 samples per cycle), long records with few
-slow cycles, and historian records with repeated or quantised samples. Each class below
+Issue 9 lists how real oscillations are missed: irregular cycles (Thornhill's r 0.65-1.0:
+the very_irregular class; the irregular class is milder), noise-driven (lightly damped)
+oscillations, two frequencies at once, a drift hiding the first ACF lobe, intermittent
+stretches, short periods (about 10 samples per cycle), long records with few slow cycles,
+and historian records with repeated or quantised samples. Each class below
 makes signals of that kind (truth: oscillating); each non-oscillating class is a matching
 counterpart (coloured noise, random walk, steps, noise with repeated samples, drift alone)
 on which every detection is a false alarm. The generator is this file's own, seeded.
 
 Goal: recall >= 0.95 in every oscillating class, false alarms <= 5 % in every other class.
 With ``--measured`` it also runs the detector on ../shared/data (skipped when absent) and
-writes one figure per signal to ``--figures DIR``.
+writes one figure per signal to ``--figures DIR``. With ``--compare`` it runs, on the same
+signals, reference implementations of other method families (whole-signal ACF, EMD and
+Morlet wavelets, each with Thornhill's regularity) instead.
 
 Run: python benchmarks/bench_oscillation.py [--n 200] [--measured] [--figures DIR]
      python benchmarks/bench_oscillation.py --compare --n 100  (other method families)
