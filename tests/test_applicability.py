@@ -442,8 +442,9 @@ def test_quantisation_snr_bounds():
     assert snr(np.repeat([0.0, 1, 2], 50)) == pytest.approx(10 * np.log10(12 * (2 / 1.349) ** 2))
     x = 0.5 * np.arange(100)  # IQR 37.125 - 12.375
     assert snr(x) == pytest.approx(10 * np.log10(12 * (24.75 / 1.349) ** 2 / 0.25))
-    # nine of ten steps on the grid of the smallest: on a grid (90 %)
-    assert np.isfinite(snr(np.r_[0, np.cumsum(np.r_[np.ones(9), 0.5])]))
+    # nine of ten steps on the grid of the smallest (1.5 is off it): on a grid (90 %)
+    assert np.isfinite(snr(np.r_[0, np.cumsum(np.r_[np.ones(9), 1.5])]))
+    assert snr(np.r_[0, np.cumsum(np.r_[np.ones(8), 1.5, 1.5])]) == np.inf  # 80 %: no grid
     assert applicability._chance_level(1, 2) == pytest.approx(1 - 1e-3 ** (1 / (2 / 1.2 - 1)))
 
 
