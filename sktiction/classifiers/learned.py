@@ -16,7 +16,8 @@ when the first learned model met data it had not seen:
    samples, PV and OP related as in a closed loop, not mostly frozen rows) and per-
    feature ranges of the training loops with a margin. Outside them the model gives no
    probability (NaN), predicts the negative class and says why.
-4. **Calibrated probabilities**: gradient-boosted trees inside
+4. **Calibrated probabilities** from two models that fail differently, averaged:
+   gradient-boosted trees and a logistic regression, each inside
    :class:`~sklearn.calibration.CalibratedClassifierCV`, so that ``p = 0.8`` means
    about 8 sticky loops in 10 among simulated loops like the training ones
    (``benchmarks/simulated_accuracy.py`` prints the reliability table and Brier score).
