@@ -32,7 +32,7 @@ class OscillationComponent:
     cycle_acf : float
         ACF at one period of the signal with its moving mean over one period removed
         (drift gone, the cycle and its harmonics kept) and nothing above the 5th
-        harmonic: how well one cycle repeats the last, whatever its shape (about 0.1
+        harmonic: how well one cycle repeats the last, whatever its shape (0.1-0.3
         for coloured noise, 0.5-0.9 for a cycle).
     """
 
