@@ -132,7 +132,7 @@ def out_of_sample(measured, groups, loop_types, X_default, n, seed, n_splits=3):
         in_a = np.array([g in half for g in groups])
         for fit, test in ((in_a, ~in_a), (~in_a, in_a)):
             realism = calibrate(measured[fit].reset_index(drop=True), loop_types=loop_types[fit],
-                                groups=groups[fit], random_state=seed + split)  # fmt: skip
+                                random_state=seed + split)  # fmt: skip
             Xr, _ = make_loops(n, N_SAMPLES, realism=realism, random_state=seed + split)
             held = measured[test].reset_index(drop=True)
             for world, Xs in (("default", X_default), ("calibrated", Xr)):
@@ -207,7 +207,7 @@ def main(argv=None):
     worlds["classic world"] = Xc
     Xd, _ = make_loops(n, N_SAMPLES, random_state=args.seed)
     worlds["default world"] = Xd
-    realism = calibrate(measured, loop_types=loop_types, groups=groups)
+    realism = calibrate(measured, loop_types=loop_types)
     print(f"\ncalibrated: {realism!r}")
     print(f"overrides: {realism.overrides}")
     with pd.option_context("display.width", 200):

@@ -21,9 +21,9 @@ from .statistics import loop_statistics
 __all__ = ["Realism", "calibrate", "apply_effects", "apply_recording"]
 
 # A simulated loop copies a measured loop's SNR within +- this many dB ...
-_SNR_SPREAD = 6.0
+_SNR_SPREAD = 3.0
 # ... and its share of PV's own variation within +- this much.
-_SHARE_SPREAD = 0.2
+_SHARE_SPREAD = 0.1
 # Noise whose second differences are this white (noise_colour below) is white noise.
 _WHITE = 0.3
 # Median PV-OP correlation of make_loops' default world without PV's own variation; the
