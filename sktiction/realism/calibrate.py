@@ -55,6 +55,12 @@ class Realism:
         (``<effect>.<param>``). A simulated loop copies the recording of one measured loop
         drawn at random (of its loop type when asked), so effects that go together in the
         plant go together in the simulation and loops without any effect stay clean.
+        World settings of each loop, copied by :meth:`loop_profile`: ``snr_db`` (before the
+        common ``snr_shift``), ``white_noise``, ``pv_own_share``, ``oscillating`` (probability
+        that the copy's cycle has its drive on), ``setpoint_regime`` (None without SP),
+        ``pv_op_corr`` (measured), and ``weight`` when :func:`calibrate` got ``groups``.
+    snr_shift : float
+        dB added to every profile's SNR (fitted by pilot simulations).
     overrides : dict
         Keyword arguments of :func:`sktiction.datasets.make_loops` fitted to the measured loops
         (only names ``make_loops`` takes; at least ``snr_db_range`` when a noise level could
