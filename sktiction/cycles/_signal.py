@@ -97,8 +97,11 @@ def remove_mean(x, period):
     """
     x = np.asarray(x, dtype=float)
     if not np.isfinite(period) or period < 2 or period > x.size / 2:
-        t = np.arange(x.size)
-        return x - np.polyval(np.polyfit(t, x, 1), t)
+        # least-squares line in closed form (np.polyfit's SVD costs 10x more)
+        t = np.arange(x.size) - 0.5 * (x.size - 1)
+        tt = t @ t
+        slope = (t @ x) / tt if tt > 0 else 0.0
+        return x - x.mean() - slope * t
     return x - moving_average(x, period)
 
 

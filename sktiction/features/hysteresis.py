@@ -90,27 +90,37 @@ def valve_fit(pv, op, k):
     return gain, band / np.ptp(o) if np.isfinite(band) else np.nan
 
 
-def _moves(x, w):
+def _move_scale(x):
+    """Noise standard deviation and 5-95 % spread of ``x``: what :func:`_moves` compares
+    increments with (the same at every window, so computed once per signal)."""
+    lo, hi = np.percentile(x, [5, 95])
+    return noise_std(x), hi - lo
+
+
+def _moves(x, w, scale=None):
     """Qualitative state of each window of ``w`` samples: +1 rising, -1 falling, 0 steady.
 
     A move must exceed three noise standard deviations of the increment of a
     ``w``-sample mean (noise from second differences) and 2 % of the 5-95 % spread,
-    so neither noise nor a coarse recording grid counts as movement.
+    so neither noise nor a coarse recording grid counts as movement. ``scale`` is
+    :func:`_move_scale` of ``x`` when already known.
     """
+    noise, spread = _move_scale(x) if scale is None else scale
     smooth = moving_average(x, w)
     d = smooth[w:] - smooth[:-w]
-    lo, hi = np.percentile(x, [5, 95])
-    limit = max(3.0 * noise_std(x) * np.sqrt(2.0 / w), 0.02 * (hi - lo))
+    limit = max(3.0 * noise * np.sqrt(2.0 / w), 0.02 * spread)
     return np.sign(d) * (np.abs(d) > limit)
 
 
-def stuck_share(pv, op, w):
+def stuck_share(pv, op, w, scales=None):
     """Share of OP-moving windows in which PV stays steady, and the share OP moves.
 
-    Returns ``(nan, moving)`` when OP never moves beyond its noise.
+    ``scales`` holds :func:`_move_scale` of PV and OP when already known. Returns
+    ``(nan, moving)`` when OP never moves beyond its noise.
     """
-    m_op = _moves(op, w)
-    m_pv = _moves(pv, w)
+    pv_scale, op_scale = (None, None) if scales is None else scales
+    m_op = _moves(op, w, op_scale)
+    m_pv = _moves(pv, w, pv_scale)
     moving = m_op != 0
     share = float(np.mean(moving))
     if not moving.any():
@@ -180,10 +190,11 @@ class PVOPHysteresis(LoopTransformer):
         op = loops[i, :n, OP]
         pv = loops[i, :n, PV]
         w, period = _window(op, n)
-        stuck, moving = stuck_share(pv, op, w)
+        scales = (_move_scale(pv), _move_scale(op))
+        stuck, moving = stuck_share(pv, op, w, scales)
         row = [stuck, moving, hysteresis_fill(pv, op, w, period)]
         # the same at OP's own time scale, which every loop has, oscillating or not
         slow = max(2, round(time_scale(op, n) / 4))
-        stuck, moving = stuck_share(pv, op, slow)
+        stuck, moving = stuck_share(pv, op, slow, scales)
         row += [stuck, moving, hysteresis_fill(pv, op, slow, np.nan)]
         return row + list(valve_fit(pv, op, slow))
