@@ -79,6 +79,7 @@ from .disturbances import (  # noqa: E402
     Drift,
     LoadStep,
     NarrowbandDisturbance,
+    PVVariation,
     SquareDisturbance,
 )
 from .valves import HeValve  # noqa: E402
@@ -92,4 +93,5 @@ __all__ += [
     "Drift",
     "CascadeSetpoint",
     "LoadStep",
+    "PVVariation",
 ]

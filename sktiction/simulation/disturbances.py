@@ -135,7 +135,7 @@ class PVVariation(BandLimitedNoise):
     Examples
     --------
     >>> import numpy as np
-    >>> from sktiction.simulation.disturbances import PVVariation
+    >>> from sktiction.simulation import PVVariation
     >>> pv = np.sin(np.arange(4000) / 20)
     >>> rec = PVVariation(0.5, 0.01).record({"pv": pv}, 1.0, np.random.default_rng(0))
     >>> u = rec["pv"] - pv
