@@ -137,7 +137,7 @@ TARGETED = {
                      "test_result_columns_and_types")
     ],
     "sktiction/datasets/_timestamps.py": ["tests/test_timestamps.py", "tests/test_read_loops.py"],
-    "sktiction/datasets/_readers.py": ["tests/test_read_loops.py", "tests/test_timestamps.py"],
+    "sktiction/datasets/_readers.py": ["tests/test_readers.py", "tests/test_read_loops.py"],
 }  # fmt: skip
 
 # mutmut's exit codes (mutmut/stats.py)

@@ -1,0 +1,134 @@
+"""The file layer of the readers: file kinds, encodings, separators and historian headers."""
+
+import codecs
+
+import pytest
+
+from sktiction.datasets._readers import (
+    FileError,
+    _choose_separator,
+    _encoding,
+    _historian_header,
+    _time_format,
+    file_kind,
+)
+
+READABLE = ".txt, .csv, .tsv, .xlsx, .xlsm, .parquet, .pq"
+
+
+@pytest.mark.parametrize(
+    ("name", "kind"),
+    [("FIC1.csv", "text"), ("a.TXT", "text"), ("b.tsv", "text"), ("c.xlsx", "xlsx"),
+     ("d.xlsm", "xlsx"), ("e.parquet", "parquet"), ("f.PQ", "parquet")],
+)  # fmt: skip
+def test_file_kinds(name, kind):
+    assert file_kind(name) == (kind, "")
+
+
+def test_files_that_are_not_loops_say_why():
+    assert file_kind("site/INDEX.csv") == (
+        None,
+        "folder index (labels of the other files), not a loop",
+    )
+    assert file_kind("index.txt")[0] is None
+    assert file_kind("~$book.xlsx") == (
+        None, "Office lock file (the workbook is open somewhere), not a loop"
+    )  # fmt: skip
+    assert file_kind("README") == (None, f"no file extension: not read (readable: {READABLE})")
+    assert file_kind("old.XLS") == (None, "old Excel format (.xls): save it as .xlsx or CSV")
+    assert file_kind("x.zip") == (None, "compressed file: unpack it first")
+    assert file_kind("x.json") == (None, f"unsupported file type '.json' (readable: {READABLE})")
+
+
+TEXT = "time,PV,OP\n0,1.5,2\n1,température,3\n"
+
+
+@pytest.mark.parametrize(
+    ("raw", "encoding"),
+    [
+        (codecs.BOM_UTF16_LE + TEXT.encode("utf-16-le"), "utf-16"),
+        (codecs.BOM_UTF16_BE + TEXT.encode("utf-16-be"), "utf-16"),
+        (codecs.BOM_UTF8 + TEXT.encode("utf-8"), "utf-8-sig"),
+        (TEXT.encode("utf-16-le"), "utf-16-le"),  # no BOM: every other byte is 0
+        (TEXT.encode("utf-16-be"), "utf-16-be"),
+        (TEXT.encode("utf-8"), "utf-8"),
+        (TEXT.encode("utf-8")[:-8] + "é".encode()[:1], "utf-8"),  # a head cut mid-character
+        (TEXT.encode("latin-1"), "latin-1"),  # single high bytes
+        ("time,温度,OP\n0,1,2\n".encode("gbk"), "gb18030"),  # byte pairs
+        (b"time,PV\n0,\x80\x80\n", "latin-1"),  # pairs, but not GB18030
+        (b"\x80\x80", "latin-1"),
+    ],
+)
+def test_encodings(raw, encoding):
+    assert _encoding(raw) == encoding
+
+
+def test_utf16_needs_zeros_in_more_than_40_percent_of_its_half():
+    # 5 of 10 odd bytes zero: UTF-16-LE; 4 of 10: not (binary)
+    assert _encoding(b"a\x00" * 5 + b"ab" * 5) == "utf-16-le"
+    assert _encoding(b"\x00a" * 5 + b"ab" * 5) == "utf-16-be"
+    with pytest.raises(FileError, match="binary file .holds NUL bytes."):
+        _encoding(b"a\x00" * 4 + b"ab" * 6)
+    with pytest.raises(FileError, match="binary file"):
+        _encoding(b"\x00" + b"a" * 20)
+
+
+@pytest.mark.parametrize(
+    ("lines", "expected"),
+    [
+        (["a\tb\tc", "1\t2\t3", "4\t5\t6"], ("\t", 3)),
+        (["a;b", "1,5;2", "3,5;4"], (";", 2)),  # ";" before "," (a decimal comma)
+        (["a|b|c|d", "1|2|3|4"], ("|", 4)),
+        (["a,b", "1,2", "", "# note", "3,4"], (",", 2)),  # blank and comment lines ignored
+        (["single", "1", "2"], (",", 1)),
+        ([], (",", 1)),
+        # 3 of 5 rows (60 %) agree: enough; 2 of 5: not, the next separator is tried
+        (["a;b", "1;2", "3;4", "5", "6"], (";", 2)),
+        (["a;b", "1;2", "3", "4", "5,6"], (",", 1)),
+    ],
+)
+def test_separator(lines, expected):
+    assert _choose_separator(lines) == expected
+
+
+def test_separator_reads_the_last_50_rows():
+    lines = ["title;with;semicolons"] * 60 + ["a,b"] + ["1,2"] * 49
+    assert _choose_separator(lines) == (",", 2)
+
+
+def _historian(first="PROCESSDATA\t2111FIC10201 Data\tyyyy-MM-dd HH:mm:ss.SSS",
+               second="Start\t2024-10-17\t21:55:00\t12", names="TagName\tPV\tOP\tSP"):  # fmt: skip
+    return [first, second, names, "descriptions", "grid"]
+
+
+def test_historian_header():
+    names, info = _historian_header(_historian())
+    assert names == ["time", "PV", "OP", "SP"]
+    assert info == {"format": "historian", "tag": "2111FIC10201",
+                    "time_format": "%Y-%m-%d %H:%M:%S.%f", "declared_rows": 12}  # fmt: skip
+    names, info = _historian_header(_historian(first="\ufeffPROCESSDATA", second="Start\t1\t2"))
+    assert info["tag"] is None and info["time_format"] is None
+    assert info["declared_rows"] is None
+    _, info = _historian_header(
+        _historian(first="PROCESSDATA\t \tdd.MM.yyyy", second="a\tb\tc\tx")
+    )
+    assert info["tag"] is None and info["time_format"] == "%d.%m.%Y"
+    assert info["declared_rows"] is None
+    names, _ = _historian_header(_historian(names=" tagname \t PV \tOP"))
+    assert names == ["time", "PV", "OP"]
+
+
+def test_historian_header_errors():
+    with pytest.raises(FileError, match="fewer than 5 lines"):
+        _historian_header(_historian()[:4])
+    with pytest.raises(FileError, match="line 3 should start with 'tagname'"):
+        _historian_header(_historian(names="time\tPV\tOP"))
+    with pytest.raises(FileError, match="list columns; got 'TagName\\\\tPV'"):
+        _historian_header(_historian(names="TagName\tPV"))
+
+
+def test_java_time_formats():
+    assert _time_format("yyyy-MM-dd HH:mm:ss") == "%Y-%m-%d %H:%M:%S"
+    assert _time_format("dd/MM/yyyy HH:mm:ss,SSS") == "%d/%m/%Y %H:%M:%S,%f"
+    assert _time_format("HH:mm") == "%H:%M"
+    assert _time_format("unknown") is None
