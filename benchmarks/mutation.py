@@ -66,6 +66,7 @@ GROUPS = {
             "tests/test_make_loops_signals.py",
             "tests/test_read_loops.py",
             "tests/test_timestamps.py",
+            "tests/test_readers.py",
             "tests/test_example.py",
         ],
     ),
