@@ -7,6 +7,7 @@ import pytest
 from sktiction.datasets._readers import (
     FileError,
     _choose_separator,
+    _delimited_header,
     _encoding,
     _historian_header,
     _time_format,
@@ -132,3 +133,47 @@ def test_java_time_formats():
     assert _time_format("dd/MM/yyyy HH:mm:ss,SSS") == "%d/%m/%Y %H:%M:%S,%f"
     assert _time_format("HH:mm") == "%H:%M"
     assert _time_format("unknown") is None
+
+
+def _header(lines):
+    notes = []
+    return (*_delimited_header(lines, notes), notes)
+
+
+def test_excel_sep_line_is_obeyed():
+    lines = ["sep=;", "time;PV;OP", "0;1,5;2", "1;2,5;3"]
+    assert _header(lines) == (";", ",", 1, ["time", "PV", "OP"], 0, ["decimal comma"])
+    # a BOM and capitals; the field count is read from the lines after it
+    sep, _, header, names, _, notes = _header(["\ufeffSEP=|", "a|b", "1|2", "3|4"])
+    assert (sep, header, names, notes) == ("|", 1, ["a", "b"], [])
+    # "sep=" alone is not a separator line: the separator is judged from the rows
+    sep, _, header, names, _, notes = _header(["sep=", "a,b", "1,2", "3,4"])
+    assert (sep, header, names) == (",", 1, ["a", "b"])
+    assert notes == ["1 line before the header skipped (titles or comments)"]
+
+
+def test_header_after_titles_and_comments():
+    lines = ["Report of FIC1", "# exported", "", "time\tPV\tOP", "0\t1.5\t2", "1\t2.5\t3"]
+    sep, decimal, header, names, skip, notes = _header(lines)
+    assert (sep, decimal, header, names, skip) == ("\t", ".", 3, ["time", "PV", "OP"], 0)
+    assert notes == ["3 lines before the header skipped (titles or comments)"]
+    lines = ["\ufefftime,PV", "0,1", "1,2"]
+    assert _header(lines)[2:4] == (0, ["time", "PV"])
+
+
+def test_units_row_and_decimal_marks():
+    sep, decimal, header, names, skip, notes = _header(["t;PV", "s;m3/h", "0;1,5", "1;2,5"])
+    assert (sep, decimal, header, skip) == (";", ",", 0, 1)
+    assert notes == ["decimal comma", "1 row after the header skipped (units or descriptions)"]
+    # a date in the first row is data, not units
+    assert _header(["t;PV", "17.10.2024 21:55;1,5", "17.10.2024 21:56;2,5"])[4] == 0
+    # commas separate: no decimal comma; points win when more fields use them
+    assert _header(["a,b", "1,2", "3,4"])[1] == "."
+    assert _header(["a\tb", "1.5\t2,5", "3.5\t4"])[1] == "."
+
+
+def test_headers_that_cannot_be_read():
+    with pytest.raises(FileError, match="first line has no column names .it holds numbers."):
+        _header(["1,2,3", "4,5,6"])
+    with pytest.raises(FileError, match="no header row of 1 columns found in the first lines"):
+        _header(["# only", "# comments", ""])
