@@ -1,7 +1,9 @@
 """The file layer of the readers: file kinds, encodings, separators and historian headers."""
 
 import codecs
+import sys
 
+import pandas as pd
 import pytest
 
 from sktiction.datasets._readers import (
@@ -12,6 +14,7 @@ from sktiction.datasets._readers import (
     _historian_header,
     _time_format,
     file_kind,
+    open_table,
 )
 
 READABLE = ".txt, .csv, .tsv, .xlsx, .xlsm, .parquet, .pq"
@@ -177,3 +180,105 @@ def test_headers_that_cannot_be_read():
         _header(["1,2,3", "4,5,6"])
     with pytest.raises(FileError, match="no header row of 1 columns found in the first lines"):
         _header(["# only", "# comments", ""])
+
+
+# ---- opening whole files -------------------------------------------------------------------
+
+
+def test_text_files(tmp_path):
+    path = tmp_path / "units.csv"
+    path.write_bytes(codecs.BOM_UTF8 + b"t;PV;OP\ns;m3/h;%\n0;1,5;2\n1;2,5;3\n")
+    table = open_table(path, "text")
+    assert table.names == ["t", "PV", "OP"] and table.info["format"] == "csv"
+    assert table.info["notes"] == [
+        "decimal comma", "1 row after the header skipped (units or descriptions)"
+    ]  # fmt: skip
+    frame = table.read([1])  # only the column asked for, numbers with a decimal comma
+    assert frame.shape == (2, 1) and frame[1].tolist() == [1.5, 2.5]
+    historian = tmp_path / "h.txt"
+    historian.write_bytes(
+        codecs.BOM_UTF8 + "\r\n".join([*_historian(), "2024-10-17\t1\t2\t3"]).encode()
+    )
+    assert open_table(historian, "text").info["format"] == "historian"
+
+
+def test_text_file_longer_than_its_head(tmp_path):
+    # 64 KiB are read to find the layout; a byte that is not UTF-8 further on is replaced
+    path = tmp_path / "long.csv"
+    rows = "".join(f"{i},{i / 10:.1f}\n" for i in range(8000))
+    path.write_bytes(b"t,PV\n" + rows.encode() + b"8000,\xe9\n")
+    table = open_table(path, "text")
+    frame = table.read([0, 1])
+    assert len(frame) == 8001 and frame[0].iloc[-1] == 8000
+    assert table.info["notes"] == ["bytes that are not utf-8 replaced"]
+
+
+def test_text_files_that_cannot_be_read(tmp_path):
+    empty = tmp_path / "empty.csv"
+    empty.write_text("  \n")
+    with pytest.raises(FileError, match="^file is empty$"):
+        open_table(empty, "text")
+    header_only = tmp_path / "header.csv"
+    header_only.write_text("t,PV\n")
+    with pytest.raises(FileError, match="^file has no data rows$"):
+        open_table(header_only, "text").read([0, 1])
+    ragged = tmp_path / "ragged.csv"
+    ragged.write_text('t,PV\n0,1\n1,"2\n')  # a quote never closed
+    with pytest.raises(FileError, match="^rows could not be parsed"):
+        open_table(ragged, "text").read([0, 1])
+
+
+def test_workbooks(tmp_path):
+    path = tmp_path / "book.xlsx"
+    with pd.ExcelWriter(path) as writer:
+        pd.DataFrame().to_excel(writer, sheet_name="empty", index=False)
+        rows = [["Export of FIC1", None, None], ["time", "PV", "OP"], [0, 1.5, 7], [1, 2.5, 8]]
+        pd.DataFrame(rows).to_excel(writer, sheet_name="data", index=False, header=False)
+    table = open_table(path, "xlsx")
+    assert table.names == ["time", "PV", "OP"]
+    assert table.info == {"format": "xlsx", "tag": None, "time_format": None,
+                          "declared_rows": None, "notes": table.info["notes"]}  # fmt: skip
+    assert table.info["notes"] == [
+        "workbook has 2 sheets: read 'data' only", "1 row above the header skipped"
+    ]  # fmt: skip
+    frame = table.read([1])
+    assert frame.shape == (2, 1) and frame[1].tolist() == [1.5, 2.5]
+    single = tmp_path / "single.xlsx"
+    pd.DataFrame({"t": [0, 1], "PV": [1, 2]}).to_excel(single, index=False)
+    assert open_table(single, "xlsx").info["notes"] == []
+
+
+def test_workbooks_that_cannot_be_read(tmp_path, monkeypatch):
+    empty = tmp_path / "empty.xlsx"
+    pd.DataFrame().to_excel(empty, index=False)
+    with pytest.raises(FileError, match="^workbook holds no data$"):
+        open_table(empty, "xlsx")
+    numbers = tmp_path / "numbers.xlsx"
+    pd.DataFrame([[1, 2], [3, 4]]).to_excel(numbers, index=False, header=False)
+    with pytest.raises(FileError, match="^no header row .a row of column names. in the first 50"):
+        open_table(numbers, "xlsx")
+    broken = tmp_path / "broken.xlsx"
+    broken.write_bytes(b"not a zip")
+    with pytest.raises(FileError, match="^not a readable Excel workbook .BadZipFile: "):
+        open_table(broken, "xlsx")
+    monkeypatch.setitem(sys.modules, "openpyxl", None)
+    with pytest.raises(FileError, match="^reading xlsx files needs openpyxl: pip install"):
+        open_table(empty, "xlsx")
+
+
+def test_parquet(tmp_path, monkeypatch):
+    path = tmp_path / "loop.parquet"
+    pd.DataFrame({"t": [0.0, 1.0], "PV": [1.5, 2.5], "OP": [3.0, 4.0]}).to_parquet(path)
+    table = open_table(path, "parquet")
+    assert table.names == ["t", "PV", "OP"]
+    assert table.info == {"format": "parquet", "tag": None, "time_format": None,
+                          "declared_rows": None, "notes": []}  # fmt: skip
+    frame = table.read([2])
+    assert list(frame.columns) == [2] and frame[2].tolist() == [3.0, 4.0]
+    broken = tmp_path / "broken.parquet"
+    broken.write_bytes(b"PAR1 not really")
+    with pytest.raises(FileError, match="^not a readable Parquet file .Arrow"):
+        open_table(broken, "parquet")
+    monkeypatch.setitem(sys.modules, "pyarrow.parquet", None)
+    with pytest.raises(FileError, match="^reading parquet files needs pyarrow: pip install"):
+        open_table(path, "parquet")
