@@ -71,7 +71,10 @@ def test_utf16_needs_zeros_in_more_than_40_percent_of_its_half():
     # 5 of 10 odd bytes zero: UTF-16-LE; 4 of 10: not (binary)
     assert _encoding(b"a\x00" * 5 + b"ab" * 5) == "utf-16-le"
     assert _encoding(b"\x00a" * 5 + b"ab" * 5) == "utf-16-be"
-    with pytest.raises(FileError, match="binary file .holds NUL bytes."):
+    with pytest.raises(
+        FileError,
+        match="^binary file .holds NUL bytes.$|^binary file .holds NUL bytes., not a text export$",
+    ):
         _encoding(b"a\x00" * 4 + b"ab" * 6)
     with pytest.raises(FileError, match="binary file"):
         _encoding(b"\x00" + b"a" * 20)
@@ -118,12 +121,14 @@ def test_historian_header():
     )
     assert info["tag"] is None and info["time_format"] == "%d.%m.%Y"
     assert info["declared_rows"] is None
+    _, info = _historian_header(_historian(first="PROCESSDATA\tFIC1 Data"))  # no time format
+    assert info["tag"] == "FIC1" and info["time_format"] is None
     names, _ = _historian_header(_historian(names=" tagname \t PV \tOP"))
     assert names == ["time", "PV", "OP"]
 
 
 def test_historian_header_errors():
-    with pytest.raises(FileError, match="fewer than 5 lines"):
+    with pytest.raises(FileError, match="^historian header is incomplete .fewer than 5 lines.$"):
         _historian_header(_historian()[:4])
     with pytest.raises(FileError, match="line 3 should start with 'tagname'"):
         _historian_header(_historian(names="time\tPV\tOP"))
@@ -155,6 +160,16 @@ def test_excel_sep_line_is_obeyed():
     assert notes == ["1 line before the header skipped (titles or comments)"]
 
 
+def test_skipped_lines_are_counted_from_the_sep_line():
+    lines = ["sep=;", "Report", "t;PV", "(s);(m3/h)", "0;1", "1;2"]
+    sep, _, header, names, skip, notes = _header(lines)
+    assert (sep, header, names, skip) == (";", 2, ["t", "PV"], 1)
+    assert notes == [
+        "1 line before the header skipped (titles or comments)",
+        "1 row after the header skipped (units or descriptions)",
+    ]
+
+
 def test_header_after_titles_and_comments():
     lines = ["Report of FIC1", "# exported", "", "time\tPV\tOP", "0\t1.5\t2", "1\t2.5\t3"]
     sep, decimal, header, names, skip, notes = _header(lines)
@@ -176,7 +191,7 @@ def test_units_row_and_decimal_marks():
 
 
 def test_headers_that_cannot_be_read():
-    with pytest.raises(FileError, match="first line has no column names .it holds numbers."):
+    with pytest.raises(FileError, match="^first line has no column names .it holds numbers.$"):
         _header(["1,2,3", "4,5,6"])
     with pytest.raises(FileError, match="no header row of 1 columns found in the first lines"):
         _header(["# only", "# comments", ""])
@@ -211,6 +226,18 @@ def test_text_file_longer_than_its_head(tmp_path):
     frame = table.read([0, 1])
     assert len(frame) == 8001 and frame[0].iloc[-1] == 8000
     assert table.info["notes"] == ["bytes that are not utf-8 replaced"]
+
+
+def test_long_text_file_with_a_decimal_comma(tmp_path):
+    # the layout is judged from the head's whole lines, not from its first one alone
+    path = tmp_path / "long.csv"
+    rows = "".join(f"{i};{i / 10:.1f};{i % 7};ok\n".replace(".", ",") for i in range(8000))
+    path.write_bytes(b"t;PV;OP;note\n" + rows.encode() + b"8000;800,0;1;caf\xe9\n")
+    table = open_table(path, "text")
+    frame = table.read([0, 2])  # after the bytes that are not UTF-8: still two columns
+    assert frame.shape == (8001, 2) and frame[2].iloc[:8].tolist() == [0, 1, 2, 3, 4, 5, 6, 0]
+    assert table.read([1])[1].iloc[15] == 1.5
+    assert table.info["notes"][0] == "decimal comma"
 
 
 def test_text_files_that_cannot_be_read(tmp_path):
