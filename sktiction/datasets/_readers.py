@@ -188,6 +188,10 @@ def _time_format(java_format):
     return fmt if "%" in fmt else None
 
 
+_COMMA_DECIMAL = re.compile(r"\s*[-+]?\d*,\d+\s*")
+_POINT_DECIMAL = re.compile(r"\s*[-+]?\d*\.\d+([eE][-+]?\d+)?\s*")
+
+
 def _delimited_header(lines, notes):
     """Separator, decimal mark, header row index, names and rows to skip after it."""
     start = 0
@@ -215,11 +219,13 @@ def _delimited_header(lines, notes):
         skipped = count(header - start, "line")
         notes.append(f"{skipped} before the header skipped (titles or comments)")
     names = [f.strip().strip("\ufeff") for f in _fields(lines[header].lstrip("\ufeff"), sep)]
-    data = [ln for ln in lines[header + 1 :] if ln.strip()]
-    fields = [f for ln in data[:200] for f in _fields(ln, sep)]
-    comma = sum(bool(re.fullmatch(r"\s*[-+]?\d*,\d+\s*", f)) for f in fields)
-    point = sum(bool(re.fullmatch(r"\s*[-+]?\d*\.\d+([eE][-+]?\d+)?\s*", f)) for f in fields)
-    decimal = "," if sep != "," and comma > point else "."
+    decimal = "."
+    if sep != ",":  # with comma-separated fields the decimal mark can only be a point
+        data = [ln for ln in lines[header + 1 :] if ln.strip()]
+        fields = [f for ln in data[:200] for f in _fields(ln, sep)]
+        comma = sum(bool(_COMMA_DECIMAL.fullmatch(f)) for f in fields)
+        point = sum(bool(_POINT_DECIMAL.fullmatch(f)) for f in fields)
+        decimal = "," if comma > point else "."
     if decimal == ",":
         notes.append("decimal comma")
     skip_after = 0
