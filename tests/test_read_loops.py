@@ -416,9 +416,7 @@ def test_folder_with_nothing_readable(tmp_path):
     write(tmp_path / "a.dat", "1 2 3\n")
     listed = list_loop_files([tmp_path, tmp_path / "nope"])
     assert listed["supported"].tolist() == [False, False, False]
-    assert (
-        listed["reason"].iloc[1] == "folder holds no readable loop file (1 file, none readable)"
-    )
+    assert listed["reason"].iloc[1] == "folder holds no readable loop file (1 file, none readable)"
     assert listed["reason"].iloc[2] == "path does not exist"
     with pytest.raises(ValueError, match="holds no readable loop file"):
         read_loops(tmp_path)
