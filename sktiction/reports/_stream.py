@@ -64,9 +64,10 @@ def _read(path, channels, ts, max_gap):
         repaired, info = repair_gaps(X[idx], max_gap=max_gap)
         X = X.copy()
         X[idx] = repaired[:, : X.shape[1]]
-        for col in _GAP_COLUMNS:
-            meta[col] = np.nan
-            meta.loc[idx, col] = info[col].to_numpy()
+        for col in _GAP_COLUMNS:  # whole columns at once: .loc per column cost 3 ms per file
+            values = np.full(len(meta), np.nan)
+            values[idx] = info[col].to_numpy(dtype=float)
+            meta[col] = values
     return X, meta, readable
 
 
@@ -80,8 +81,9 @@ def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
             return
         meta = pd.concat(pending_meta, ignore_index=True)
         loops = check_loops(_pad(pending))
-        report = _scan_safely(loops, loop_types_of(meta, len(meta)), learned, rules,
-                              sampling_times(meta), gate)
+        report = _scan_safely(
+            loops, loop_types_of(meta, len(meta)), learned, rules, sampling_times(meta), gate
+        )
         out.append(join_meta(meta, report))
         pending.clear()
         pending_meta.clear()
@@ -89,15 +91,27 @@ def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
     for path, supported, reason in files:
         if not supported:
             flush()
-            meta = pd.DataFrame({"file": [Path(path).name], "path": [path],
-                                 "status": ["unsupported"], "reason": [reason]})
+            meta = pd.DataFrame(
+                {
+                    "file": [Path(path).name],
+                    "path": [path],
+                    "status": ["unsupported"],
+                    "reason": [reason],
+                }
+            )
             out.append(join_meta(meta, _unreadable_rows(meta)))
             continue
         try:
             X, meta, readable = _read(path, channels, ts, max_gap)
         except Exception as exc:  # noqa: BLE001 - one odd file must not stop the scan
-            meta = pd.DataFrame({"file": [Path(path).name], "path": [path], "status": ["error"],
-                                 "reason": [f"{type(exc).__name__}: {exc}"]})
+            meta = pd.DataFrame(
+                {
+                    "file": [Path(path).name],
+                    "path": [path],
+                    "status": ["error"],
+                    "reason": [f"{type(exc).__name__}: {exc}"],
+                }
+            )
             X, readable = np.full((1, 0, 3), np.nan), np.zeros(1, dtype=bool)
         if not readable.all():
             flush()  # keep file order: rows of unreadable loops go where the file is
@@ -210,8 +224,15 @@ def scan_files(
     groups = _groups(files, chunk_size)
     units = [(g, channels, ts, max_gap) for g in groups]
     with progress_bar(len(files), progress, unit="file") as bar:
-        parts = run_units(_scan_unit, units, (learned, rules, gate, chunk_size), n_jobs=n_jobs,
-                          client=client, bar=bar, sizes=[len(g) for g in groups])
+        parts = run_units(
+            _scan_unit,
+            units,
+            (learned, rules, gate, chunk_size),
+            n_jobs=n_jobs,
+            client=client,
+            bar=bar,
+            sizes=[len(g) for g in groups],
+        )
     return pd.concat(parts, ignore_index=True)
 
 
