@@ -126,17 +126,14 @@ def test_transformer_uses_n_lags_and_rejects_bad_values():
     np.testing.assert_allclose(two[:2], fit_stiction_band(pv, op, n_lags=2))
     assert two[2] == pytest.approx(two[1] / np.ptp(op))
     assert not np.allclose(two, default)
-    for bad in (0, 1.5):
-        with pytest.raises(ValueError, match="n_lags must be an integer >= 1"):
+    for bad in (0, 1, 1.5):
+        with pytest.raises(ValueError, match="n_lags must be an integer >= 2"):
             StictionModelFit(n_lags=bad).fit(X)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=ValueError,
-    reason="n_lags=1 passes the check (>= 1) but the ARX design always has two PV lags "
-    "and the kernel's slices pv[n_lags - 2:] break (see /tmp/coord/REQUESTS.md)",
-)
 def test_the_smallest_allowed_n_lags_works():
+    # two PV lags in every ARX row: one valve lag was accepted once and then crashed
     pv, op, X = _valve_loops()
-    assert np.isfinite(StictionModelFit(n_lags=1).fit_transform(X)).all()
+    assert np.isfinite(StictionModelFit(n_lags=2).fit_transform(X)).all()
+    with pytest.raises(ValueError, match="n_lags must be an integer >= 2"):
+        fit_stiction_band(pv, op, n_lags=1)

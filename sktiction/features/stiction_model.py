@@ -153,7 +153,8 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     pv, op : ndarray of shape (n_samples,)
         Process variable and controller output of one loop, without NaN.
     n_lags : int, default=8
-        Valve-position lags of the ARX model (covers the dead time in samples).
+        Valve-position lags of the ARX model (covers the dead time in samples);
+        at least 2, as the model's two PV lags need.
     grid : array-like or None, default=None
         Candidate bands as fractions of OP's peak-to-peak; ``None`` uses 24 values
         spaced geometrically from 0.2 % to 60 %.
@@ -180,6 +181,8 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     """
     pv = np.ascontiguousarray(pv, dtype=float)
     op = np.ascontiguousarray(op, dtype=float)
+    if n_lags < 2:
+        raise ValueError(f"n_lags must be an integer >= 2; got {n_lags!r}.")
     n_lags = int(min(n_lags, max(2, pv.size // 20)))
     if pv.size < 4 * (n_lags + 3):
         return np.nan, np.nan
@@ -224,7 +227,7 @@ class StictionModelFit(LoopTransformer):
     Parameters
     ----------
     n_lags : int, default=8
-        Valve-position lags of the ARX model, in samples.
+        Valve-position lags of the ARX model, in samples (at least 2).
 
     Examples
     --------
@@ -242,8 +245,9 @@ class StictionModelFit(LoopTransformer):
         self.n_lags = n_lags
 
     def _validate_params(self):
-        if int(self.n_lags) != self.n_lags or self.n_lags < 1:
-            raise ValueError(f"n_lags must be an integer >= 1; got {self.n_lags!r}.")
+        # the ARX design always has two PV lags, so its rows start at t = max(n_lags, 2)
+        if int(self.n_lags) != self.n_lags or self.n_lags < 2:
+            raise ValueError(f"n_lags must be an integer >= 2; got {self.n_lags!r}.")
 
     def _transform_loop(self, loops, i, n):
         pv, op = loops[i, :n, PV], loops[i, :n, OP]
