@@ -299,9 +299,10 @@ def _demo(args):
     for source in ("simulated", "plant"):
         s = (meta["source"] == source).to_numpy()
         if s.any():
+            alarms = int(np.sum(found & ~truth & s))
             print(f"\n{source}: stiction found in {found[s].sum()} of {s.sum()} loops; "
                   f"{np.sum(found & truth & s)} of {np.sum(truth & s)} sticky loops caught, "
-                  f"{np.sum(found & ~truth & s)} false alarms.", end="")
+                  f"{alarms} false alarm{'' if alarms == 1 else 's'}.", end="")
     print(f"\n\nlearned classifier ready in {t1 - t0:.1f} s; scanned {len(X)} loops in "
           f"{t2 - t1:.2f} s.")
     if args.report:
