@@ -9,7 +9,7 @@ means the same on loops of any scale. Each effect has a statistic of
 =====================  ==================================  =================================
 effect                 what the historian or sensor does   statistic
 =====================  ==================================  =================================
-HoldLastValue          whole rows frozen, then all jump     ``joint_repeat_excess``
+HoldLastValue          whole rows frozen, then all jump     ``hold_fraction``
 DeadbandCompression    each tag stored when it moved more   ``independent_freeze``
                        than a band (exception deviation)
 IntervalAveraging      trailing mean over an interval       ``diff_acf_min``
