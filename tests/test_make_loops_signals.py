@@ -174,3 +174,25 @@ def test_loop_type_reaches_the_recording_effects():
     level = (meta["plant"] == "integrating").to_numpy()
     assert level.any() and (~level).any()
     assert held[level].all() and not held[~level].any()
+
+
+class _ProfileWorld:
+    """A calibrated world stand-in: every loop copies one quiet, very clean profile."""
+
+    overrides = {}
+
+    def loop_profile(self, rng):
+        settings = {"snr_db_range": (50.0, 50.0), "oscillating_fraction": 0.0}
+        return {"loop_type": None, "settings": settings, "recording": []}
+
+    def recording_effects(self, rng, loop_type=None):
+        return []
+
+
+def test_explicit_arguments_win_over_a_calibrated_worlds_profile():
+    _, _, meta = make_loops(8, n_samples=600, realism=_ProfileWorld(), random_state=0,
+                            return_meta=True)  # fmt: skip
+    assert (meta["snr_db"] == 50.0).all()
+    _, _, meta = make_loops(8, n_samples=600, realism=_ProfileWorld(), snr_db_range=(0.0, 1.0),
+                            random_state=0, return_meta=True)  # fmt: skip
+    assert meta["snr_db"].between(0.0, 1.0).all()

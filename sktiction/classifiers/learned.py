@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import copy
 import functools
+import numbers
 import time
 import warnings
 from pathlib import Path
@@ -323,8 +324,8 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
     C : float, default=1.0
         Inverse regularisation strength of the logistic regression.
     calibration : {"isotonic", "sigmoid"} or None, default="isotonic"
-        Method of :class:`~sklearn.calibration.CalibratedClassifierCV` (``cv`` folds);
-        ``None`` leaves the booster's probabilities as they are.
+        Method of :class:`~sklearn.calibration.CalibratedClassifierCV` (``cv`` folds),
+        applied to each model; ``None`` leaves their probabilities as they are.
     cv : int, default=3
         Folds of the calibration.
     min_samples : int, default=200
@@ -412,7 +413,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
     def _validate_params(self):
         if self.model not in _MODELS:
             raise ValueError(f"model must be one of {_MODELS}; got {self.model!r}.")
-        if not self.C > 0:
+        if not (isinstance(self.C, numbers.Real) and self.C > 0):
             raise ValueError(f"C must be > 0; got {self.C!r}.")
         if self.calibration not in ("isotonic", "sigmoid", None):
             raise ValueError(

@@ -8,7 +8,7 @@ import numpy as np
 from numba import njit
 from scipy.fft import irfft
 
-from ._oscillation import SCORE_SCALE, _components, _power_spectrum
+from ._oscillation import MAX_CONFIRMATION, SCORE_SCALE, _components, _power_spectrum
 from ._signal import (
     dominant_period,
     first_lobe,
@@ -24,7 +24,9 @@ REGULARITY_THRESHOLD = 1.0
 #: Score (see :func:`~sktiction.cycles.detect_oscillations`) added to a component when
 #: the time-domain cycles of its period are regular (r > 1) and the first ACF peak of
 #: the signal exceeds :data:`CONFIRM_ACF`: two independent readings of one cycle.
-CYCLE_EVIDENCE = 0.5
+#: The most it may add is :data:`~sktiction.cycles._oscillation.MAX_CONFIRMATION`: the
+#: detector prunes peaks that could not reach the threshold even with it.
+CYCLE_EVIDENCE = MAX_CONFIRMATION
 CONFIRM_ACF = 0.2
 
 

@@ -353,7 +353,8 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
         # type, its settings (noise, PV's own variation, oscillating or quiet, setpoint
         # regime) and recording are this loop's, drawn alike for every cause
         profile = realism.loop_profile(rng) if profiles else {}
-        lopt = {**opt, **profile.get("settings", {})}
+        settings = profile.get("settings", {})
+        lopt = {**opt, **{k: v for k, v in settings.items() if k not in opt["explicit"]}}
         allowed = opt["orders"]
         if profile.get("loop_type") in _TYPE_ORDERS:
             allowed = [o for o in opt["orders"] if o in _TYPE_ORDERS[profile["loop_type"]]]
@@ -924,8 +925,8 @@ def make_loops(
         profile: its loop type sets the plant type (``"level"``: integrating;
         ``"flow"``, ``"pressure"``: first or second order; others: any), its
         settings (``snr_db_range``, ``noise_colours``, ``pv_own_share``,
-        ``oscillating_fraction``, ``setpoint_regime``) and its recording effects are
-        the loop's.
+        ``oscillating_fraction``, ``setpoint_regime``, unless given explicitly) and
+        its recording effects are the loop's.
     random_state : None, int or numpy.random.Generator, default=None
         Seed for reproducible output.
     return_meta : bool, default=False
@@ -1002,7 +1003,7 @@ def make_loops(
                 f"allowed: {sorted(defaults)}."
             )
         if not callable(getattr(realism, "recording_effects", None)):
-            raise ValueError("realism must have a method recording_effects(rng, loop_type).")
+            raise ValueError("realism must have a method recording_effects(rng, loop_type=None).")
     opt = {
         k: (given[k] if given[k] is not None else overrides.get(k, defaults[k])) for k in defaults
     }
@@ -1051,6 +1052,8 @@ def make_loops(
         X = res.X
     else:
         opt = _check_default_options(opt, orders, n_samples, realism)
+        # arguments the caller gave win over a calibrated world's per-loop settings too
+        opt["explicit"] = frozenset(k for k, v in given.items() if v is not None)
         opt.update(
             lambda_range=(lam_lo, lam_hi), period_range=(p_lo, p_hi), S_range=(s_lo, s_hi),
             snr_db_range=(snr_lo, snr_hi), slip_fraction=slip_fraction, orders=orders,

@@ -181,7 +181,7 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     """
     pv = np.ascontiguousarray(pv, dtype=float)
     op = np.ascontiguousarray(op, dtype=float)
-    if n_lags < 2:
+    if int(n_lags) != n_lags or n_lags < 2:
         raise ValueError(f"n_lags must be an integer >= 2; got {n_lags!r}.")
     n_lags = int(min(n_lags, max(2, pv.size // 20)))
     if pv.size < 4 * (n_lags + 3):

@@ -100,7 +100,7 @@ class Realism:
 
         ``make_loops(..., realism=...)`` calls it once per loop: the measured loop's type sets
         the simulated plant's type (level: integrating; flow, pressure: first or second
-        order; others: any), its world settings (``PROFILE_SETTINGS``: noise level and
+        order; others: any), its world settings (noise level and
         colour, PV's own variation, oscillating or quiet, setpoint regime) and its recording
         effects are the simulated loop's. Drawn without regard to the cause, so sticky and
         healthy loops get the same mix.
@@ -408,7 +408,8 @@ def _type_medians(values, types, wanted, overall):
 def _refine_own_share(realism, rng, n_loops=120, n_steps=2):
     """Fit the share of PV's own variation per loop type from pilot simulations.
 
-    The first pilot (``n_loops`` loops of the calibrated world, no own variation) gives the
+    The first pilot (``n_loops`` loops of the calibrated world, own variation set to zero,
+    which the profiles' spread widens to at most 0.1) gives the
     PV-OP correlation each loop type has in simulation; the type's share lowers the median of
     that reference to the measured median (medians, so that loops whose correlation is low
     for other reasons move nothing; per loop type where both sides hold at least

@@ -221,6 +221,13 @@ def domain_gap(
 
     s_stats = as_statistics(simulated)
     m_stats = as_statistics(measured)
+    if groups is not None:  # checked first: a wrong length must not hide behind a NaN
+        groups = np.asarray(groups).astype(str)
+        if len(groups) != len(m_stats):
+            raise ValueError(
+                f"groups must have one entry per measured loop ({len(m_stats)}); "
+                f"got {len(groups)}."
+            )
     exclude = set(exclude)
     cols = []
     for c in dict.fromkeys(e.statistic for e in EFFECTS.values()):
@@ -242,12 +249,6 @@ def domain_gap(
     if groups is None:
         folds = StratifiedKFold(n_splits=max(2, min(cv, n_min)), shuffle=True, random_state=seed)
     else:
-        groups = np.asarray(groups).astype(str)
-        if len(groups) != len(m_stats):
-            raise ValueError(
-                f"groups must have one entry per measured loop ({len(m_stats)}); "
-                f"got {len(groups)}."
-            )
         n_groups = len(set(groups))
         if n_groups < 2:
             raise ValueError("groups must hold at least 2 groups.")
