@@ -13,15 +13,21 @@ def loops():
     return X[:150], y[:150], X[150:], y[150:]
 
 
-def _fit(model, X, y):
-    return LearnedStictionClassifier(model=model, max_iter=40, cv=2, random_state=0).fit(X, y)
+@pytest.fixture(scope="module")
+def fitted(loops):
+    """Each model fitted once on the same loops, shared by the tests below."""
+    X, y, _, _ = loops
+    return {
+        model: LearnedStictionClassifier(model=model, max_iter=40, cv=2, random_state=0).fit(X, y)
+        for model in ("boosting", "logistic", "ensemble")
+    }
 
 
-def test_ensemble_probability_is_the_mean_of_its_two_models(loops):
-    X, y, X_test, _ = loops
-    ens = _fit("ensemble", X, y).predict_proba(X_test)[:, 1]
-    boost = _fit("boosting", X, y).predict_proba(X_test)[:, 1]
-    logit = _fit("logistic", X, y).predict_proba(X_test)[:, 1]
+def test_ensemble_probability_is_the_mean_of_its_two_models(loops, fitted):
+    X_test = loops[2]
+    ens, boost, logit = (
+        fitted[m].predict_proba(X_test)[:, 1] for m in ("ensemble", "boosting", "logistic")
+    )
     judged = np.isfinite(ens)
     assert judged.sum() >= 20
     np.testing.assert_allclose(ens[judged], (boost[judged] + logit[judged]) / 2, atol=1e-12)
@@ -30,9 +36,9 @@ def test_ensemble_probability_is_the_mean_of_its_two_models(loops):
 
 
 @pytest.mark.parametrize("model", ["boosting", "logistic", "ensemble"])
-def test_each_model_separates_classic_loops(loops, model):
-    X, y, X_test, y_test = loops
-    pred = _fit(model, X, y).predict(X_test)
+def test_each_model_separates_classic_loops(loops, fitted, model):
+    _, _, X_test, y_test = loops
+    pred = fitted[model].predict(X_test)
     assert np.mean(pred == y_test) >= 0.8
 
 
