@@ -69,15 +69,8 @@ def test_block_means():
     np.testing.assert_array_equal(_block_means(np.arange(4.0), 1), np.arange(4.0))
 
 
-def _walk_valve(n=3000, band=2.0, seed=0):
-    rng = np.random.default_rng(seed)
-    op = 50 + np.cumsum(rng.normal(0, 0.3, n))
-    pv = np.convolve(_play(op, band), [0.0, 0.0, 0.5, 0.3, 0.2])[:n]
-    return pv + rng.normal(0, 0.05, n), op
-
-
-def test_valve_fit_finds_the_band_as_a_share_of_op_span():
-    pv, op = _walk_valve()
+def test_valve_fit_finds_the_band_as_a_share_of_op_span(valve_walk):
+    pv, op = valve_walk()
     gain, share = valve_fit(pv, op, 1)
     assert gain > 0.5 and share == pytest.approx(2.0 / np.ptp(op), rel=0.2)
     g3, s3 = valve_fit(pv, op, 3)  # block means of 3: fit on the means
@@ -85,8 +78,8 @@ def test_valve_fit_finds_the_band_as_a_share_of_op_span():
     np.testing.assert_allclose([g3, s3 * np.ptp(o)], fit_stiction_band(p, o))
 
 
-def test_valve_fit_needs_60_blocks_and_a_moving_op():
-    pv, op = _walk_valve()
+def test_valve_fit_needs_60_blocks_and_a_moving_op(valve_walk):
+    pv, op = valve_walk()
     assert np.isnan(valve_fit(pv[:59], op[:59], 1)).all()
     assert np.isfinite(valve_fit(pv[:60], op[:60], 1)).all()
     # the block is shortened so that 60 blocks remain
@@ -95,7 +88,7 @@ def test_valve_fit_needs_60_blocks_and_a_moving_op():
     )
     assert not np.allclose(valve_fit(pv[:120], op[:120], 1), valve_fit(pv[:120], op[:120], 2))
     assert np.isnan(valve_fit(pv, np.full_like(op, 4.0), 1)).all()
-    pv, op = _walk_valve()
+    pv, op = valve_walk()
     unit = (op - op.min()) / np.ptp(op)  # a span of exactly 1 is a span
     assert np.ptp(unit) == 1.0
     np.testing.assert_allclose(valve_fit(pv, unit, 1), valve_fit(pv, op, 1), rtol=1e-6)

@@ -58,18 +58,10 @@ def test_grid_search_gives_the_least_squares_gain_and_band():
     assert max(gains) > 0.5 and min(gains) < 0.01  # clear and absent valve models
 
 
-def _valve_loop(band=2.0, n=3000, seed=0):
-    """PV driven through a valve with dead band ``band`` and a lag (docstring example)."""
-    rng = np.random.default_rng(seed)
-    op = 50 + np.cumsum(rng.normal(0, 0.3, n))
-    pv = np.convolve(_play(op, band), [0.0, 0.0, 0.5, 0.3, 0.2])[:n]
-    return pv + rng.normal(0, 0.05, n), op
-
-
-def test_a_large_offset_changes_nothing():
+def test_a_large_offset_changes_nothing(valve_walk):
     # the fit centres PV and OP first: an offset of 1e6 on a signal moving by tens
     # would otherwise cost the normal equations about twelve digits
-    pv, op = _valve_loop()
+    pv, op = valve_walk()
     got = fit_stiction_band(pv + 1e6, op - 1e6)
     np.testing.assert_allclose(got, fit_stiction_band(pv, op), rtol=1e-6)
     assert got[0] > 0.5 and 1.6 < got[1] < 2.4
@@ -83,8 +75,8 @@ def test_collinear_valve_positions_give_the_least_squares_fit():
     np.testing.assert_allclose(fit_stiction_band(pv, op), lstsq_grid(pv, op), rtol=1e-6, atol=1e-9)
 
 
-def test_short_records():
-    pv, op = _valve_loop(n=80)
+def test_short_records(valve_walk):
+    pv, op = valve_walk(n=80)
     # 4 * (n_lags + 3) samples at least, with n_lags cut to max(2, n // 20)
     assert np.isnan(fit_stiction_band(pv[:19], op[:19])).all()
     assert np.isfinite(fit_stiction_band(pv[:20], op[:20])).all()
@@ -94,8 +86,8 @@ def test_short_records():
         )
 
 
-def test_flat_signals_give_nan_and_a_unit_span_does_not():
-    pv, op = _valve_loop()
+def test_flat_signals_give_nan_and_a_unit_span_does_not(valve_walk):
+    pv, op = valve_walk()
     assert np.isnan(fit_stiction_band(pv, np.full_like(op, 3.0))).all()
     assert np.isnan(fit_stiction_band(np.full_like(pv, 3.0), op)).all()
     unit_pv, unit_op = (pv - pv.min()) / np.ptp(pv), (op - op.min()) / np.ptp(op)
@@ -104,8 +96,8 @@ def test_flat_signals_give_nan_and_a_unit_span_does_not():
     assert gain > 0.5 and band == pytest.approx(2.0 / np.ptp(op), rel=0.2)
 
 
-def test_a_given_grid_is_searched():
-    pv, op = _valve_loop(band=2.0)
+def test_a_given_grid_is_searched(valve_walk):
+    pv, op = valve_walk(band=2.0)
     span = np.ptp(op)
     gain, band = fit_stiction_band(pv, op, grid=[2.0 / span])  # the true band only
     assert band == pytest.approx(2.0) and gain > 0.5
@@ -113,13 +105,13 @@ def test_a_given_grid_is_searched():
     assert far[1] in (0.0, pytest.approx(0.5 * span)) and far[0] < gain
 
 
-def _valve_loops(n=1500):
-    pv, op = _valve_loop(n=n)
+def _valve_loops(valve_walk, n=1500):
+    pv, op = valve_walk(n=n)
     return pv, op, np.stack([pv, op, np.full(pv.size, 50.0)], axis=1)[None]
 
 
-def test_transformer_uses_n_lags_and_rejects_bad_values():
-    pv, op, X = _valve_loops()
+def test_transformer_uses_n_lags_and_rejects_bad_values(valve_walk):
+    pv, op, X = _valve_loops(valve_walk)
     default = StictionModelFit().fit_transform(X)[0]
     np.testing.assert_array_equal(default, StictionModelFit(n_lags=8).fit_transform(X)[0])
     two = StictionModelFit(n_lags=2).fit_transform(X)[0]
@@ -131,9 +123,9 @@ def test_transformer_uses_n_lags_and_rejects_bad_values():
             StictionModelFit(n_lags=bad).fit(X)
 
 
-def test_the_smallest_allowed_n_lags_works():
+def test_the_smallest_allowed_n_lags_works(valve_walk):
     # two PV lags in every ARX row: one valve lag was accepted once and then crashed
-    pv, op, X = _valve_loops()
+    pv, op, X = _valve_loops(valve_walk)
     assert np.isfinite(StictionModelFit(n_lags=2).fit_transform(X)).all()
     with pytest.raises(ValueError, match="n_lags must be an integer >= 2"):
         fit_stiction_band(pv, op, n_lags=1)
