@@ -11,8 +11,17 @@ from sktiction import TemplateDistances, cycle_table
 from sktiction._validation import check_loops, loop_status
 from sktiction.features import paired_dtw
 from sktiction.features._loops import analyse_loops
+from sktiction.features.dtw import tslearn_paired_dtw
 from sktiction.features.template_distances import _nearest_cycles
-from sktiction.features.templates import SHAPES, make_shape_cycles, match_cycles
+from sktiction.features.templates import (
+    SHAPES,
+    cycle_templates,
+    make_shape_cycles,
+    match_cycles,
+    range_extrema,
+    resample,
+    unit_half,
+)
 
 
 @pytest.mark.parametrize("radius", [None, 0, 2, 7])
@@ -35,6 +44,151 @@ def test_paired_dtw_rejects_bad_input():
         paired_dtw(np.full((1, 5), np.nan), np.zeros((1, 5)))
     with pytest.raises(ValueError, match="sakoe_chiba_radius"):
         paired_dtw(np.zeros((1, 5)), np.zeros((1, 5)), sakoe_chiba_radius=-1)
+
+
+def test_paired_dtw_known_answers():
+    rng = np.random.default_rng(3)
+    A, B = rng.normal(size=(2, 5, 12))
+    # a band of width 0 allows no warping: the Euclidean distance
+    assert np.allclose(paired_dtw(A, B, sakoe_chiba_radius=0), np.linalg.norm(A - B, axis=1))
+    free = paired_dtw(A, B)
+    assert (free <= np.linalg.norm(A - B, axis=1) + 1e-12).all() and (free > 0).all()
+    assert np.array_equal(paired_dtw(A, A), np.zeros(5))
+    # a whole-number radius of any type, and integer series, are accepted
+    for radius in (2.0, np.int64(2)):
+        assert np.array_equal(paired_dtw(A, B, sakoe_chiba_radius=radius),
+                              paired_dtw(A, B, sakoe_chiba_radius=2))  # fmt: skip
+    assert paired_dtw([[0, 1, 2, 1]], [[0, 0, 1, 2]]).tolist() == [1.0]
+    assert paired_dtw(np.empty((0, 4)), np.empty((0, 4))).shape == (0,)
+
+
+def test_tslearn_reference_takes_the_band():
+    rng = np.random.default_rng(4)
+    A, B = rng.normal(size=(2, 6, 16))
+    for radius in (None, 0, 3):
+        assert np.allclose(tslearn_paired_dtw(A, B, sakoe_chiba_radius=radius),
+                           paired_dtw(A, B, sakoe_chiba_radius=radius), atol=1e-9)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "A, B, radius, match",
+    [(np.zeros(5), np.zeros(5), None, "2-D"), (np.zeros((2, 5)), np.zeros((3, 5)), None, "2-D"),
+     (np.zeros((1, 5)), np.full((1, 5), np.inf), None, "NaN"),
+     (np.zeros((1, 5)), np.zeros((1, 5)), 1.5, "sakoe_chiba_radius")],
+)  # fmt: skip
+def test_paired_dtw_names_what_is_wrong(A, B, radius, match):
+    with pytest.raises(ValueError, match=match):
+        paired_dtw(A, B, sakoe_chiba_radius=radius)
+
+
+def test_unit_half_shapes_at_known_positions():
+    tau = np.array([0.0, 0.1, 0.25, 0.5, 0.9])
+    assert np.allclose(unit_half("rectangular", tau), 1.0)
+    assert np.allclose(unit_half("triangular", tau), [0, 0.2, 0.5, 1, 0.2])
+    assert np.allclose(unit_half("sinusoidal", tau), np.sin(np.pi * tau))
+    # ramps over the first and last fifth of the half
+    assert np.allclose(unit_half("trapezoidal", tau), [0, 0.5, 1, 1, 0.5])
+    with pytest.raises(ValueError, match="shape must be one of"):
+        unit_half("square", tau)
+
+
+@pytest.mark.parametrize("split", [0.3, 0.5, 0.8])
+def test_templates_keep_each_half_s_duration_and_area(split):
+    n = 2000
+    temps = cycle_templates(split, 2.0, -0.5, n)
+    assert temps.shape == (len(SHAPES), n)
+    k = int(split * n)
+    assert np.allclose(temps[:, :k].mean(axis=1), 2.0, rtol=1e-4)
+    assert np.allclose(temps[:, k:].mean(axis=1), -0.5, rtol=1e-4)
+    assert (temps[:, :k] >= 0).all() and (temps[:, k:] <= 0).all()
+    # one value per cycle: a stack of the templates of each
+    many = cycle_templates([split, 0.5], [2.0, 1.0], [-0.5, -1.0], n)
+    assert many.shape == (2, len(SHAPES), n) and np.array_equal(many[0], temps)
+
+
+def test_templates_of_a_cycle_with_one_half():
+    # a cycle that is all second half (split 0) or all first half (split 1)
+    assert np.allclose(cycle_templates(0.0, 2.0, -1.0, 1000).mean(axis=1), -1.0, rtol=1e-4)
+    assert np.allclose(cycle_templates(1.0, 2.0, -1.0, 1000).mean(axis=1), 2.0, rtol=1e-4)
+
+
+def test_resample_averages_over_bins():
+    x = np.arange(10.0)
+    # sample i covers [i - 0.5, i + 0.5): bins of two samples each
+    assert np.allclose(resample(x, -0.5, 9.5, 5), [0.5, 2.5, 4.5, 6.5, 8.5])
+    # half of sample 0, all of sample 1, half of sample 2
+    assert np.allclose(resample(x, 0, 2, 1), [1.0])
+    rows = resample(x, np.array([-0.5, 4.5]), np.array([3.5, 8.5]), 2)
+    assert np.allclose(rows, [[0.5, 2.5], [5.5, 7.5]])
+    c = np.concatenate([[0.0], np.cumsum(x)])
+    assert np.array_equal(resample(x, 0.2, 7.9, 4, cumulative=c), resample(x, 0.2, 7.9, 4))
+
+
+def test_range_extrema_of_lists_and_empty_ranges():
+    top, bottom = range_extrema([4, -2, 7, 1], [0, 1, 3, 2], [2, 4, 3, 9])
+    assert top.tolist() == [4, 7, -np.inf, 7] and bottom.tolist() == [-2, -2, np.inf, 1]
+
+
+def test_cycle_distances_do_not_depend_on_amplitude_or_offset_of_time():
+    x, bounds = make_shape_cycles("sinusoidal", 6, snr_db=15, random_state=5)
+    d = match_cycles(x, bounds)
+    assert np.allclose(match_cycles(7.5 * x, bounds), d)
+    assert np.allclose(match_cycles(np.r_[np.zeros(40), x], bounds + 40), d)
+    assert match_cycles(x, np.empty((0, 3))).shape == (0, len(SHAPES))
+    # a flat cycle matches every (flat) template exactly
+    assert np.array_equal(match_cycles(np.zeros(300), [[0, 100, 200]]), np.zeros((1, 4)))
+
+
+@pytest.mark.parametrize("shape", SHAPES)
+def test_clean_cycles_are_nearest_their_own_template(shape):
+    x, bounds = make_shape_cycles(shape, 8, snr_db=np.inf, random_state=6)
+    d = match_cycles(x, bounds)
+    assert (d.argmin(axis=1) == SHAPES.index(shape)).all()
+    for params in ({"n_points": 16}, {"sakoe_chiba_radius": None}, {"backend": "tslearn"}):
+        assert (match_cycles(x, bounds, **params).argmin(axis=1) == SHAPES.index(shape)).all()
+
+
+def test_a_half_of_one_bin_is_matched_by_its_area():
+    # 32 samples on 32 bins: the first half is one sample of height 3, the second -1
+    x = np.r_[3.0, -np.ones(31)]
+    d = match_cycles(x, [[-0.5, 0.5, 31.5]], sakoe_chiba_radius=0)
+    assert d[0, SHAPES.index("rectangular")] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_shape_cycles_have_the_asked_periods_halves_heights_and_noise():
+    kw = {"period": 80, "period_jitter": 0.2, "half_ratio": 1.5, "amplitude_ratio": 2.0}
+    clean, bounds = make_shape_cycles("rectangular", 200, snr_db=np.inf, random_state=7, **kw)
+    assert bounds.shape == (200, 3) and clean.size == bounds[-1, 2]
+    assert bounds[0, 0] == 0 and np.array_equal(bounds[1:, 0], bounds[:-1, 2])
+    periods = bounds[:, 2] - bounds[:, 0]
+    assert periods.min() >= 80 * 0.8 - 1 and periods.max() <= 80 * 1.2 + 1
+    assert periods.min() < 80 * 0.85 and periods.max() > 80 * 1.15  # the whole range is used
+    ratio = (bounds[:, 1] - bounds[:, 0]) / (bounds[:, 2] - bounds[:, 1])
+    assert ratio.min() > 1 / 1.5 - 0.05 and ratio.max() < 1.5 + 0.05
+    assert ratio.min() < 1 / 1.4 and ratio.max() > 1.4  # both halves may be the longer
+    first = clean[bounds[:, 0].astype(int)]  # the height of each first half
+    second = clean[bounds[:, 1].astype(int)]
+    assert np.allclose(first * second, -1.0)  # heights h and -1 / h
+    assert first.min() >= 0.5 and first.max() <= 2.0 and first.min() < 0.6 and first.max() > 1.8
+    noisy, same = make_shape_cycles("rectangular", 200, snr_db=10, random_state=7, **kw)
+    assert np.array_equal(same, bounds)
+    snr = 10 * np.log10(np.mean(clean**2) / np.mean((noisy - clean) ** 2))
+    assert snr == pytest.approx(10, abs=0.2)
+
+
+def test_shape_cycles_defaults():
+    x, bounds = make_shape_cycles("rectangular", random_state=8)
+    assert bounds.shape == (20, 3)
+    periods = bounds[:, 2] - bounds[:, 0]
+    assert 70 - 1 <= periods.min() and periods.max() <= 130 + 1 and np.ptp(periods) > 30
+    ratio = (bounds[:, 1] - bounds[:, 0]) / (bounds[:, 2] - bounds[:, 1])
+    assert ratio.min() > 0.5 - 0.05 and ratio.max() < 2 + 0.05 and np.ptp(np.log(ratio)) > 0.8
+    clean, _ = make_shape_cycles("rectangular", snr_db=np.inf, random_state=8)
+    heights = clean[bounds[:, 0].astype(int)]
+    assert heights.min() >= 1 / 1.5 and heights.max() <= 1.5 and np.ptp(heights) > 0.5
+    snr = 10 * np.log10(np.mean(clean**2) / np.mean((x - clean) ** 2))
+    assert snr == pytest.approx(20, abs=0.5)
+    assert np.array_equal(make_shape_cycles("rectangular", random_state=8)[0], x)
 
 
 @pytest.mark.parametrize("snr_db, required", [(20.0, 0.95), (10.0, 0.85)])

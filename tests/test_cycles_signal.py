@@ -1,0 +1,105 @@
+"""Known answers of the signal helpers behind the cycle analysis (``cycles/_signal.py``)."""
+
+import numpy as np
+import pytest
+
+from sktiction.cycles import (
+    autocorrelation,
+    dominant_period,
+    horch_filter,
+    moving_average,
+    noise_std,
+    remove_mean,
+)
+from sktiction.cycles._signal import first_lobe
+
+
+def test_noise_std_of_white_noise_and_of_records_too_short():
+    rng = np.random.default_rng(0)
+    # the MAD of 100 000 second differences is within 1 % of its limit
+    assert noise_std(rng.normal(0, 0.3, 100_000)) == pytest.approx(0.3, rel=0.02)
+    # a straight line has no second differences but zeros; a step only one large one
+    assert noise_std(5 + 2 * np.arange(50)) == 0.0
+    assert noise_std(np.r_[np.zeros(50), np.ones(50)]) == 0.0
+    assert noise_std([1.0, 2.0]) == 0.0  # no second difference at all
+
+
+def test_autocorrelation_is_the_normalised_lagged_product():
+    rng = np.random.default_rng(1)
+    x = rng.normal(size=64) + 3.0
+    d = x - x.mean()
+    direct = [np.dot(d[: d.size - k], d[k:]) / np.dot(d, d) for k in range(11)]
+    r = autocorrelation(x, 10)
+    assert r.shape == (11,) and r[0] == pytest.approx(1.0)
+    assert np.allclose(r, direct)
+    assert np.array_equal(autocorrelation(np.full(20, 4.0), 5), np.zeros(6))
+
+
+@pytest.mark.parametrize(
+    "r, expected",
+    [
+        ([1.0, 0.5, -0.2, 0.3, 0.6, 0.4, -0.1, 0.9], (4.0, 0.6)),  # later lobes ignored
+        ([1.0, -0.5, 0.2, 0.7], (3.0, 0.7)),  # the lobe runs to the last lag
+        ([1.0, 0.0, -0.5, 0.0, 0.3], (4.0, 0.3)),  # zeros are neither sign
+        ([1.0, 0.5, 0.2], (np.nan, 0.0)),  # never below zero
+        ([1.0, 0.5, -0.2, 0.0], (np.nan, 0.0)),  # never back above zero
+    ],
+)
+def test_first_lobe_of_known_acfs(r, expected):
+    lag, height = first_lobe(np.array(r))
+    assert np.isnan(lag) if np.isnan(expected[0]) else lag == expected[0]
+    assert height == expected[1]
+
+
+def test_dominant_period_after_detrending_and_up_to_half_the_record():
+    t = np.arange(2000)
+    # a trend 100 times the oscillation keeps the raw ACF positive at every lag
+    period, strength = dominant_period(np.sin(2 * np.pi * t / 80) + 0.05 * t)
+    assert period == pytest.approx(80, abs=1) and strength > 0.9
+    # lags up to half the record: a period of 0.4 n is still found
+    period, _ = dominant_period(np.sin(2 * np.pi * np.arange(300) / 120))
+    assert period == pytest.approx(120, abs=2)
+    assert np.isnan(dominant_period(np.arange(100.0))[0])  # a line, detrended, is zero
+
+
+def test_moving_average_known_values():
+    x = np.array([0.0, 0, 0, 3, 0, 0, 0])
+    assert np.allclose(moving_average(x, 3), [0, 0, 1, 1, 1, 0, 0])
+    assert np.allclose(moving_average(x, 2.6), [0, 0, 1, 1, 1, 0, 0])  # rounded to 3
+    # an even window takes one sample more before than after
+    assert np.allclose(moving_average(x, 2), [0, 0, 0, 1.5, 1.5, 0, 0])
+    # edge values are repeated, not zeros
+    assert np.allclose(moving_average(np.array([3.0, 0, 0, 0, 6]), 3), [2, 1, 0, 2, 4])
+    one = moving_average(x, 0.4)  # windows under 1 sample leave the signal as it is
+    assert np.array_equal(one, x) and one is not x
+
+
+def test_remove_mean_uses_the_moving_mean_from_two_samples_to_half_the_record():
+    t = np.arange(100)
+    alternating = (-1.0) ** t
+    step = np.where(t < 50, 0.0, 10.0)
+    # period 2: the moving mean follows the step and leaves the alternation
+    centred = remove_mean(step + alternating, 2)
+    assert np.allclose(np.abs(np.delete(centred, [0, 50])), 1.0)
+    # no usable period (NaN, under 2, over half the record): the least-squares line goes
+    x = 3.0 + 0.2 * t + alternating
+    line = np.polyval(np.polyfit(t, x, 1), t)
+    for period in (np.nan, 1.9, 50.5, np.inf):
+        assert np.allclose(remove_mean(x, period), x - line)
+    assert np.allclose(remove_mean(x, 50), x - moving_average(x, 50))  # half the record
+    assert np.array_equal(remove_mean([5.0], np.nan), [0.0])  # one sample has no slope
+
+
+def test_horch_filter_gain_is_that_of_eq_23_run_twice():
+    period = 200
+    t = np.arange(20 * period)
+    c = np.exp(-3 * 2 * np.pi / period)  # cut-off at three times the oscillation frequency
+    w = 2 * np.pi / period
+    gain = (1 - c) ** 2 / (1 - 2 * c * np.cos(w) + c**2)  # |H|^2: forwards and backwards
+    y = horch_filter(np.sin(w * t) + 7.0, period)
+    middle = slice(5 * period, 15 * period)
+    assert np.ptp(y[middle]) / 2 == pytest.approx(gain, rel=1e-3)
+    assert np.mean(y[middle]) == pytest.approx(7.0, abs=1e-3)  # unit gain at zero frequency
+    x = np.sin(w * t)
+    for no_period in (np.nan, 0, -5):
+        assert np.array_equal(horch_filter(x, no_period), x)
