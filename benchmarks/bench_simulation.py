@@ -125,6 +125,10 @@ def kernel_time(n_loops, n_samples, chunk, rng):
             zeros,
             zeros,
             zeros,
+            zeros,
+            0 * ones,
+            np.arange(chunk),
+            0,
             X,
             valve,
         )

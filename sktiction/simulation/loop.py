@@ -33,9 +33,17 @@ _DEFAULT_REFERENCE_STD = 1.0
 @njit(cache=True)
 def _run_loops(
     A, B0, B1, C, nxs, delay, kcs, ti, td, ts, op_lo, op_hi, op0, pv_eq,
-    kinds, vpar, vstate, sp, out_load, in_load, noise, X, valve,
+    kinds, vpar, vstate, sp, out_load, in_load, noise, noise_rel, ref, rows, start, X, valve,
 ):  # fmt: skip
-    n_loops, n = valve.shape
+    """Simulate loops ``rows``: loop ``rows[r]`` into ``X[r]`` and ``valve[r]``.
+
+    Inputs are indexed by loop, outputs by position in ``rows``. The loop runs
+    ``start + X.shape[1]`` samples and stores those from ``start`` on (``valve`` may
+    have no columns: not stored). The measurement noise is ``noise + noise_rel * ref``.
+    """
+    n_rows = rows.shape[0]
+    n = start + X.shape[1]
+    keep_valve = valve.shape[1] > 0
     x = np.zeros(A.shape[1])
     xn = np.zeros(A.shape[1])
     # exogenous inputs are (n_loops, n) or (n_loops, 1): step 1 or 0 through time
@@ -43,7 +51,9 @@ def _run_loops(
     dol = 1 if out_load.shape[1] > 1 else 0
     dil = 1 if in_load.shape[1] > 1 else 0
     dno = 1 if noise.shape[1] > 1 else 0
-    for j in range(n_loops):
+    dnr = 1 if noise_rel.shape[1] > 1 else 0
+    for r in range(n_rows):
+        j = rows[r]
         nx = nxs[j]
         x[:] = 0.0
         m = delay[j]
@@ -61,6 +71,7 @@ def _run_loops(
         u = op0[j]
         ueq = op0[j]
         peq = pv_eq[j]
+        scale = ref[j]
         # steady state before the first sample: zero error, PV at equilibrium
         e1 = 0.0
         pv1 = peq
@@ -69,7 +80,8 @@ def _run_loops(
             y = 0.0
             for i in range(nx):
                 y += C[j, i] * x[i]
-            p = peq + y + out_load[j, k * dol] + noise[j, k * dno]
+            nz = noise[j, k * dno] + noise_rel[j, k * dnr] * scale
+            p = peq + y + out_load[j, k * dol] + nz
             e = sp[j, k * dsp] - p
             u += kp * (e - e1) + ki * e - kd * (p - 2.0 * pv1 + pv2)
             if u > hi:
@@ -77,10 +89,12 @@ def _run_loops(
             elif u < lo:
                 u = lo
             v = valve_step(kind, par, st, u)
-            X[j, k, 0] = p
-            X[j, k, 1] = u
-            X[j, k, 2] = sp[j, k * dsp]
-            valve[j, k] = v
+            if k >= start:
+                X[r, k - start, 0] = p
+                X[r, k - start, 1] = u
+                X[r, k - start, 2] = sp[j, k * dsp]
+                if keep_valve:
+                    valve[r, k - start] = v
             e1 = e
             pv2 = pv1
             pv1 = p
@@ -158,6 +172,92 @@ def _discretize_all(plants, ts):
         C[j, :n] = c
         delay[j] = m
     return A, B0, B1, C, nxs, delay
+
+
+def _loop_arrays(plants, controllers, valves, ts, op0):
+    """The compiled kernel's per-loop parameters (plants discretised at ``ts``)."""
+    A, B0, B1, C, nxs, delay = _discretize_all(plants, ts)
+    signs = np.array([c.sign(p.gain) for c, p in zip(controllers, plants, strict=True)])
+    kcs = signs * np.array([c.kc for c in controllers])
+    ti = np.array([c.ti for c in controllers])
+    td = np.array([c.td for c in controllers])
+    op_lo = np.array([c.op_limits[0] for c in controllers])
+    op_hi = np.array([c.op_limits[1] for c in controllers])
+    op0 = np.clip(op0, op_lo, op_hi)
+    kinds = np.array([v.kind for v in valves], dtype=np.int64)
+    vpar = np.zeros((len(valves), N_PARAMS))
+    vstate = np.zeros((len(valves), STATE_SIZE))
+    for j, v in enumerate(valves):
+        vpar[j] = v.params()
+        vstate[j] = v.initial_state(op0[j])
+    return (A, B0, B1, C, nxs, delay, kcs, ti, td, ts, op_lo, op_hi, op0), (kinds, vpar, vstate)
+
+
+def _exogenous(effects, n_samples, ts, rng):
+    """Exogenous arrays of a group of loops, drawn loop by loop in order.
+
+    A key nobody uses stays ``(n_loops, 1)`` so the kernel reads a constant.
+    """
+    exo = {key: np.zeros((len(effects), 1)) for key in EXOGENOUS_KEYS}
+    for j, row in enumerate(effects):
+        for eff in row:
+            if eff.kind != "exogenous":
+                continue
+            for key, arr in eff.signals(n_samples, ts[j], rng).items():
+                if exo[key].shape[1] == 1:
+                    exo[key] = np.zeros((len(effects), n_samples))
+                exo[key][j] += arr
+    return exo
+
+
+# Loops simulated together: the exogenous arrays of a chunk are a few MB, reused from one
+# chunk to the next (fresh memory is slow to fault in, very slow in some virtual machines).
+_CHUNK = 64
+
+
+def _simulate(loops, sp, effects, n_samples, rng, X, valve=None, start=0, on_chunk=None):
+    """Simulate loops chunk by chunk into ``X`` (samples from ``start`` on).
+
+    ``loops`` comes from :func:`_loop_arrays`, ``sp`` is the base setpoint,
+    ``(n_loops, 1)`` or ``(n_loops, n_samples)``. The valve positions go to ``valve``
+    when given, else to a buffer passed as ``on_chunk(lo, hi, valve_chunk)``. The
+    random draws happen in the order of the loops, as one pass over all loops would
+    make them.
+    """
+    params, (kinds, vpar, vstate) = loops
+    ts = params[9]
+    n_store = n_samples - start
+    for lo in range(0, len(effects), _CHUNK):
+        hi = min(lo + _CHUNK, len(effects))
+        exo = _exogenous(effects[lo:hi], n_samples, ts[lo:hi], rng)
+        sp_c = sp[lo:hi]
+        pv_eq = sp_c[:, 0].copy()
+        if exo["setpoint"].shape[1] > 1:
+            exo["setpoint"] += sp_c  # in place: large fresh arrays are costly to fault in
+            sp_c = exo["setpoint"]
+        args = (
+            *(a[lo:hi] for a in params), pv_eq, kinds[lo:hi], vpar[lo:hi], vstate[lo:hi],
+            sp_c, exo["output_load"], exo["input_load"],
+        )  # fmt: skip
+        ref = np.zeros(hi - lo)
+        if exo["noise_relative"].shape[1] > 1:
+            # SNR-specified noise: scale by the PV spread over the second half of a
+            # noise-free pilot run, run only for the loops that have such noise
+            rows = np.flatnonzero(exo["noise_relative"].any(axis=1))
+            half = n_samples // 2
+            pilot = np.empty((rows.size, n_samples - half, 3))
+            zeros = np.zeros((hi - lo, 1))
+            _run_loops(*args, zeros, zeros, ref, rows, half, pilot, np.empty((rows.size, 0)))
+            ref[:] = _DEFAULT_REFERENCE_STD
+            ref[rows] = pilot[:, :, 0].std(axis=1)
+            ref = np.where(ref > 1e-12, ref, _DEFAULT_REFERENCE_STD)
+        vbuf = valve[lo:hi] if valve is not None else np.empty((hi - lo, n_store))
+        _run_loops(
+            *args, exo["noise"], exo["noise_relative"], ref, np.arange(hi - lo), start,
+            X[lo:hi], vbuf,
+        )  # fmt: skip
+        if on_chunk is not None:
+            on_chunk(lo, hi, vbuf)
 
 
 @single_blas_thread
@@ -255,59 +355,11 @@ def simulate_loops(
     effects = _per_loop_effects(effects, n_loops)
     rng = check_random_state_seed(random_state)
 
-    # exogenous arrays; a key nobody uses stays (n_loops, 1) so the kernel reads a constant
-    exo = {key: np.zeros((n_loops, 1)) for key in EXOGENOUS_KEYS}
-    for j in range(n_loops):
-        for eff in effects[j]:
-            if eff.kind != "exogenous":
-                continue
-            for key, arr in eff.signals(n_samples, ts_arr[j], rng).items():
-                if exo[key].shape[1] == 1:
-                    exo[key] = np.zeros((n_loops, n_samples))
-                exo[key][j] += arr
-    pv_eq = sp[:, 0].copy()
-    if exo["setpoint"].shape[1] > 1:
-        exo["setpoint"] += sp  # in place: large fresh arrays are costly to fault in
-        sp = exo["setpoint"]
-
-    A, B0, B1, C, nxs, delay = _discretize_all(plants, ts_arr)
-    signs = np.array([c.sign(p.gain) for c, p in zip(controllers, plants, strict=True)])
-    kcs = signs * np.array([c.kc for c in controllers])
-    ti = np.array([c.ti for c in controllers])
-    td = np.array([c.td for c in controllers])
-    op_lo = np.array([c.op_limits[0] for c in controllers])
-    op_hi = np.array([c.op_limits[1] for c in controllers])
-    op0 = np.clip(op0, op_lo, op_hi)
-    kinds = np.array([v.kind for v in valves], dtype=np.int64)
-    vpar = np.zeros((n_loops, N_PARAMS))
-    vstate = np.zeros((n_loops, STATE_SIZE))
-    for j, v in enumerate(valves):
-        vpar[j] = v.params()
-        vstate[j] = v.initial_state(op0[j])
-
+    loops = _loop_arrays(plants, controllers, valves, ts_arr, op0)
     # PV and OP are written straight into the (n_loops, n_samples, 3) output
     X = np.empty((n_loops, n_samples, 3))
     valve = np.empty((n_loops, n_samples))
-
-    def run(noise, rows=slice(None), X=X, valve=valve):
-        per_loop = (
-            A, B0, B1, C, nxs, delay, kcs, ti, td, ts_arr, op_lo, op_hi, op0, pv_eq,
-            kinds, vpar, vstate, sp, exo["output_load"], exo["input_load"],
-        )  # fmt: skip
-        _run_loops(*(a[rows] for a in per_loop), noise, X, valve)
-
-    noise = exo["noise"]
-    if exo["noise_relative"].shape[1] > 1:
-        # SNR-specified noise: scale by the PV spread of a noise-free pilot run, run
-        # only for the loops that have such noise (loops are independent)
-        rows = np.flatnonzero(exo["noise_relative"].any(axis=1))
-        pilot = np.empty((rows.size, n_samples, 3))
-        run(np.zeros((rows.size, 1)), rows, pilot, np.empty((rows.size, n_samples)))
-        ref = np.full(n_loops, _DEFAULT_REFERENCE_STD)
-        ref[rows] = pilot[:, n_samples // 2 :, 0].std(axis=1)
-        ref = np.where(ref > 1e-12, ref, _DEFAULT_REFERENCE_STD)
-        noise = noise + exo["noise_relative"] * ref[:, None]
-    run(noise)
+    _simulate(loops, sp, effects, n_samples, rng, X, valve=valve)
 
     t = np.arange(n_samples) * ts_arr[0]
     if np.any(ts_arr != ts_arr[0]):
