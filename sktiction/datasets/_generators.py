@@ -33,6 +33,7 @@ from ..simulation import (
     simulate_loops,
 )
 from ..simulation._threads import single_blas_thread
+from ..simulation.loop import _loop_arrays, _simulate
 from ..simulation.disturbances import PVVariation
 from ..simulation.historian import (
     DeadbandCompression,
@@ -641,42 +642,53 @@ def _slip_snr(pv, valve, length, pv_per_valve, snr_db):
 
 def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
     """Draw and simulate the default world; sticky loops whose valve never slips in the
-    record (a band wider than anything OP does there) are drawn again."""
+    record (a band wider than anything OP does there) are drawn again.
+
+    The records are written straight into the output (the warm-up is simulated, not
+    stored) and the valve positions are looked at chunk by chunk, never kept whole.
+    """
+    X = np.empty((len(labels), n_samples, 3))
     todo = np.arange(len(labels))
-    X = valve = None
     records, rows = [None] * len(labels), [None] * len(labels)
     for _ in range(_MAX_REDRAWS):
         plants, controllers, valves, effects, rec, row = _draw_default(
             [labels[i] for i in todo], n_samples, n_warm, ts, opt, rng
         )
-        res = simulate_loops(
-            plants, controllers, valves, n_samples + n_warm, ts, effects=effects,
-            initial_op=[r[4] for r in rec], random_state=rng,
-        )  # fmt: skip
-        if X is None:
-            X, valve = res.X, res.valve
-        else:
-            X[todo], valve[todo] = res.X, res.valve
         for k, i in enumerate(todo):
             records[i], rows[i] = rec[k], row[k]
-        slips = _slips(valve[todo, n_warm:], [r[3] for r in rec])
         sticky = np.array([labels[i] == "stiction" for i in todo])
-        for k, i in enumerate(todo):
-            rows[i]["slip_snr"] = (
-                _slip_snr(res.X[k, n_warm:, 0], valve[i, n_warm:], rec[k][3],
-                          rows[i]["pv_per_valve"], rows[i]["snr_db"])
-                if sticky[k] else np.nan
-            )  # fmt: skip
-            rows[i]["stiction_visible"] = bool(rows[i]["slip_snr"] >= _VISIBLE_SLIP_SNR)
+        slips = np.zeros(len(todo), dtype=int)
+        out = X if len(todo) == len(labels) else np.empty((len(todo), n_samples, 3))
+
+        def look(lo, hi, valve, out=out, rec=rec, row=row, sticky=sticky, slips=slips):
+            for k in np.flatnonzero(sticky[lo:hi]) + lo:
+                slips[k] = _slips(valve[k - lo : k - lo + 1], [rec[k][3]])[0]
+                row[k]["slip_snr"] = _slip_snr(
+                    out[k, :, 0], valve[k - lo], rec[k][3], row[k]["pv_per_valve"],
+                    row[k]["snr_db"],
+                )  # fmt: skip
+            for k in range(lo, hi):
+                row[k].setdefault("slip_snr", np.nan)
+                row[k]["stiction_visible"] = bool(row[k]["slip_snr"] >= _VISIBLE_SLIP_SNR)
+
+        loops = _loop_arrays(
+            plants, controllers, valves, np.full(len(todo), float(ts)),
+            np.array([r[4] for r in rec]),
+        )  # fmt: skip
+        _simulate(
+            loops, np.full((len(todo), 1), 50.0), effects, n_samples + n_warm, rng, out,
+            start=n_warm, on_chunk=look,
+        )  # fmt: skip
+        if out is not X:
+            X[todo] = out
         todo = todo[sticky & (slips < _MIN_SLIPS)]
         if len(todo) == 0:
             break
-    return _finish_default(X, records, n_warm, ts, rng), records, rows
+    return _finish_default(X, records, ts, rng), records, rows
 
 
-def _finish_default(X, records, n_warm, ts, rng):
-    """Cut the warm-up, set PV units, apply recording effects and record lengths."""
-    X = np.ascontiguousarray(X[:, n_warm:, :])
+def _finish_default(X, records, ts, rng):
+    """Set PV units, apply recording effects and record lengths, in place."""
     scale = np.array([r[1] for r in records])[:, None]
     center = np.array([r[2] for r in records])[:, None]
     # a linear plant's PV can be relabelled exactly: other units, other level
