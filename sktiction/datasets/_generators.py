@@ -33,7 +33,6 @@ from ..simulation import (
     simulate_loops,
 )
 from ..simulation._threads import single_blas_thread
-from ..simulation.loop import _loop_arrays, _simulate
 from ..simulation.disturbances import PVVariation
 from ..simulation.historian import (
     DeadbandCompression,
@@ -41,6 +40,7 @@ from ..simulation.historian import (
     IntervalAveraging,
     SpanQuantization,
 )
+from ..simulation.loop import _loop_arrays, _simulate
 
 __all__ = ["make_loops"]
 
