@@ -132,13 +132,30 @@ class HoldLastValue(_Recording):
         """Boolean array, True on rows that repeat the row before."""
         f = min(self.fraction, 0.99)
         mean_gap = self.mean_run * (1.0 - f) / f
-        held = np.zeros(n_samples, dtype=bool)
-        k = int(rng.geometric(1.0 / (1.0 + mean_gap)))
-        while k < n_samples:
-            run = int(rng.geometric(1.0 / self.mean_run))
-            held[k : k + run] = True
-            k += run + int(rng.geometric(1.0 / (1.0 + mean_gap)))
-        return held
+        p_gap, p_run = 1.0 / (1.0 + mean_gap), 1.0 / self.mean_run
+        # gap, run, gap, run, ... until a gap ends past the record: draw a batch that
+        # surely covers the record, then rewind and draw exactly the ones used, so the
+        # generator ends where drawing them one at a time would leave it
+        state = rng.bit_generator.state
+        size = 2 * int(n_samples / (self.mean_run + mean_gap)) + 21
+        while True:
+            p = np.where(np.arange(size) % 2 == 0, p_gap, p_run)
+            steps = rng.geometric(p)
+            ends = np.cumsum(steps)
+            past = np.flatnonzero((ends >= n_samples) & (np.arange(size) % 2 == 0))
+            if len(past):
+                break
+            rng.bit_generator.state = state
+            size *= 2
+        used = past[0] + 1
+        rng.bit_generator.state = state
+        ends = np.cumsum(rng.geometric(p[:used]))
+        # runs start where a gap ends (even entries) and stop where they end (odd ones)
+        starts, stops = ends[:-1:2], np.minimum(ends[1::2], n_samples)
+        delta = np.zeros(n_samples + 1, dtype=np.int64)
+        delta[starts] += 1  # starts and stops are each strictly increasing
+        delta[stops] -= 1
+        return np.cumsum(delta[:-1]) > 0
 
     def record(self, signals, ts, rng):
         n = len(signals["pv"])

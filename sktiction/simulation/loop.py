@@ -193,21 +193,26 @@ def _loop_arrays(plants, controllers, valves, ts, op0):
     return (A, B0, B1, C, nxs, delay, kcs, ti, td, ts, op_lo, op_hi, op0), (kinds, vpar, vstate)
 
 
-def _exogenous(effects, n_samples, ts, rng):
+def _exogenous(effects, n_samples, ts, rng, work):
     """Exogenous arrays of a group of loops, drawn loop by loop in order.
 
-    A key nobody uses stays ``(n_loops, 1)`` so the kernel reads a constant.
+    A key nobody uses is ``(n_loops, 1)`` zeros so the kernel reads a constant; the others
+    are rows of the buffers in ``work`` (key -> array), allocated once and reused.
     """
-    exo = {key: np.zeros((len(effects), 1)) for key in EXOGENOUS_KEYS}
+    n = len(effects)
+    exo = dict.fromkeys(EXOGENOUS_KEYS)
     for j, row in enumerate(effects):
         for eff in row:
             if eff.kind != "exogenous":
                 continue
             for key, arr in eff.signals(n_samples, ts[j], rng).items():
-                if exo[key].shape[1] == 1:
-                    exo[key] = np.zeros((len(effects), n_samples))
+                if exo[key] is None:
+                    if key not in work:
+                        work[key] = np.empty((n, n_samples))
+                    exo[key] = work[key][:n]
+                    exo[key].fill(0.0)
                 exo[key][j] += arr
-    return exo
+    return {key: np.zeros((n, 1)) if arr is None else arr for key, arr in exo.items()}
 
 
 # Loops simulated together: the exogenous arrays of a chunk are a few MB, reused from one
@@ -227,9 +232,10 @@ def _simulate(loops, sp, effects, n_samples, rng, X, valve=None, start=0, on_chu
     params, (kinds, vpar, vstate) = loops
     ts = params[9]
     n_store = n_samples - start
+    work = {}
     for lo in range(0, len(effects), _CHUNK):
         hi = min(lo + _CHUNK, len(effects))
-        exo = _exogenous(effects[lo:hi], n_samples, ts[lo:hi], rng)
+        exo = _exogenous(effects[lo:hi], n_samples, ts[lo:hi], rng, work)
         sp_c = sp[lo:hi]
         pv_eq = sp_c[:, 0].copy()
         if exo["setpoint"].shape[1] > 1:
@@ -245,13 +251,17 @@ def _simulate(loops, sp, effects, n_samples, rng, X, valve=None, start=0, on_chu
             # noise-free pilot run, run only for the loops that have such noise
             rows = np.flatnonzero(exo["noise_relative"].any(axis=1))
             half = n_samples // 2
-            pilot = np.empty((rows.size, n_samples - half, 3))
+            if "pilot" not in work:
+                work["pilot"] = np.empty((hi - lo, n_samples - half, 3))
+            pilot = work["pilot"][: rows.size]
             zeros = np.zeros((hi - lo, 1))
             _run_loops(*args, zeros, zeros, ref, rows, half, pilot, np.empty((rows.size, 0)))
             ref[:] = _DEFAULT_REFERENCE_STD
             ref[rows] = pilot[:, :, 0].std(axis=1)
             ref = np.where(ref > 1e-12, ref, _DEFAULT_REFERENCE_STD)
-        vbuf = valve[lo:hi] if valve is not None else np.empty((hi - lo, n_store))
+        if valve is None and "valve" not in work:
+            work["valve"] = np.empty((hi - lo, n_store))
+        vbuf = valve[lo:hi] if valve is not None else work["valve"][: hi - lo]
         _run_loops(
             *args, exo["noise"], exo["noise_relative"], ref, np.arange(hi - lo), start,
             X[lo:hi], vbuf,
