@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import numbers
 
 import numpy as np
@@ -69,6 +70,13 @@ def _check_range(value, name, lo=None, hi=None, strict_lo=False):
     return a, b
 
 
+@functools.cache
+def _frequency_grid(n_grid):
+    grid = np.geomspace(1e-3, 1e3, n_grid)
+    grid.flags.writeable = False
+    return grid
+
+
 def _phase_crossover(plant, kc, ti, ts, n_grid=600):
     """Phase-crossover frequency ``w180`` of the sampled PI loop and the gain margin there.
 
@@ -76,7 +84,7 @@ def _phase_crossover(plant, kc, ti, ts, n_grid=600):
     """
     A, B, C = plant.state_space()
     scale = plant.delay + max(plant.time_constant, 1e-3) + ts
-    w = np.geomspace(1e-3, 1e3, n_grid) / scale
+    w = _frequency_grid(n_grid) / scale
     eye = np.eye(A.shape[0])
     rhs = np.broadcast_to(B[:, None], (len(w), len(B), 1))
     G = (np.linalg.solve(1j * w[:, None, None] * eye - A, rhs)[:, :, 0] @ C) * np.sign(plant.gain)
@@ -232,7 +240,7 @@ def _draw_classic(
                 "samples_per_cycle": samples_per_cycle,
                 "snr_db": snr,
                 "scenario": scenario,
-                "effects": ", ".join(repr(e) for e in eff),
+                "effects": tuple(eff),  # described by make_loops if meta is asked for
             }
         )
 
@@ -596,7 +604,7 @@ def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
                 "scenario": ("slips" if loop_kind != "standard" else "limit_cycle")
                 if cause == "stiction"
                 else "",
-                "effects": ", ".join(repr(e) for e in eff + rec[len(sensor) :]),
+                "effects": tuple(eff + rec[len(sensor) :]),  # described by make_loops
             }
         )
     return plants, controllers, valves, effects, records, rows
@@ -1075,6 +1083,8 @@ def make_loops(
         X, records, rows = _simulate_default(labels, int(n_samples), n_warm, ts, opt, rng)
     y = np.array([r["y"] for r in rows], dtype=int)
     if return_meta:
+        for r in rows:
+            r["effects"] = ", ".join(repr(e) for e in r["effects"])
         return X, y, pd.DataFrame(rows)
     return X, y
 
