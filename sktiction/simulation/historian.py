@@ -54,12 +54,29 @@ def _check_share(value, name, upper=1.0):
 
 
 def _span(x):
-    """5-95 % range over the finite samples (0 when there are none)."""
+    """5-95 % range over the finite samples (0 when there are none).
+
+    ``np.percentile(x, [5, 95])`` (linear method) computed the way numpy does, in one
+    partition and without its per-call overhead: the same value to the last bit.
+    """
     x = x[np.isfinite(x)]
-    if len(x) == 0:
+    n = len(x)
+    if n < 2:
         return 0.0
-    lo, hi = np.percentile(x, [5, 95])
+    v = (n - 1) * _SPAN_Q
+    i = np.floor(v)
+    t = v - i
+    i = i.astype(np.intp)
+    part = np.partition(x, np.unique(np.concatenate([i, i + 1])))
+    lo, hi = (
+        a + d * g if g < 0.5 else b - d * (1 - g)
+        for a, b, g in zip(part[i], part[i + 1], t, strict=True)
+        for d in [b - a]
+    )
     return float(hi - lo)
+
+
+_SPAN_Q = np.array([5.0, 95.0]) / 100
 
 
 def _noise_sd(x):
