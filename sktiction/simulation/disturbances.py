@@ -61,14 +61,28 @@ def _lowpass_unit(n_samples, cutoff, order, rng):
     a few time constants is drawn and dropped so that the first sample is stationary.
     """
     a = np.exp(-2.0 * np.pi * cutoff)
-    den = np.poly(np.full(order, a))  # (1 - a z^-1)^order
+    den = _lag_power(a, order)
     num = [(1.0 - a) ** order]
     burn = int(min(5.0 * order / (1.0 - a), 20_000))
     e = rng.standard_normal(n_samples + burn)
     out = lfilter(num, den, e)[burn:]
     # stationary variance: sum of the squared impulse response
-    h = lfilter(num, den, np.r_[1.0, np.zeros(burn + 64)])
+    impulse = np.zeros(burn + 65)
+    impulse[0] = 1.0
+    h = lfilter(num, den, impulse)
     return out / np.sqrt(np.sum(h * h))
+
+
+def _lag_power(a, order):
+    """Coefficients of ``(1 - a z^-1)^order``, as ``np.poly(np.full(order, a))`` gives them.
+
+    Each step multiplies by ``(1 - a z^-1)``: every coefficient is a sum of at most two
+    products, so the order of the sums cannot change the result.
+    """
+    den = [1.0]
+    for _ in range(order):
+        den = [c - a * p for c, p in zip([*den, 0.0], [0.0, *den], strict=True)]
+    return np.array(den)
 
 
 class BandLimitedNoise(WhiteNoise):
