@@ -403,3 +403,104 @@ def test_batch_equals_single_loops():
         assert np.array_equal(batch.X[j], one.X)
         assert np.array_equal(batch.valve[j], one.valve)
     assert batch.t.shape == (2, 300)
+
+
+# ---------------------------------------------------------------- fast paths vs plain ones
+
+
+def test_chunked_batch_with_pilot_and_recording_does_not_depend_on_the_chunk(monkeypatch):
+    """Loops run in chunks: the same loops one at a time (chunks of 1) give the same bits,
+    SNR noise (pilot run), setpoint and load arrays and recording effects included."""
+    from sktiction.simulation import loop
+
+    rng = np.random.default_rng(0)
+    plants = [FOPTD(1.0, float(rng.uniform(2, 20)), float(rng.uniform(0, 5))) for _ in range(70)]
+    ctrls = [PIController.from_plant(p) for p in plants]
+    valves = [[LinearValve(), RelayValve(2.0), KanoValve(3.0, 1.0)][j % 3] for j in range(70)]
+    effects = [
+        [SetpointSteps([3.0], [2.0]), RandomWalkLoad(0.01)]
+        + ([WhiteNoise(snr_db=20)] if j % 2 else [WhiteNoise(snr_db=10, where="record")])
+        for j in range(70)
+    ]
+
+    def run():
+        return simulate_loops(plants, ctrls, valves, 400, 1.0, effects=effects, random_state=5)
+
+    batch = run()
+    monkeypatch.setattr(loop, "_CHUNK", 1)
+    single = run()
+    assert np.array_equal(batch.X, single.X) and np.array_equal(batch.valve, single.valve)
+
+
+def test_kernel_stores_from_start_and_runs_the_rows_asked_for():
+    """``_run_loops`` with ``start`` stores the tail of the full run; ``rows`` picks loops."""
+    from sktiction.simulation.loop import _loop_arrays, _run_loops
+
+    plants = [FOPTD(1.0, 5.0, 2.0), SOPTD(-2.0, 3.0, 1.5), IntegratingPlant(0.1, 2.0, 3.0)]
+    ctrls = [PIController.from_plant(p) for p in plants]
+    valves = [RelayValve(1.0), LinearValve(), ChoudhuryValve(2.0, 1.0)]
+    params, (kinds, vpar, vstate) = _loop_arrays(
+        plants, ctrls, valves, np.ones(3), np.full(3, 50.0)
+    )
+    sp = np.full((3, 300), 50.0)
+    sp[:, 10:] += 2.0
+    noise = np.random.default_rng(0).standard_normal((3, 300)) * 0.1
+    rel = np.random.default_rng(1).standard_normal((3, 300))
+    ref = np.array([0.5, 0.0, 2.0])
+    z = np.zeros((3, 1))
+    inputs = (*params, sp[:, 0].copy(), kinds, vpar, vstate, sp, z, z)
+
+    def run(rows, start):
+        X = np.empty((len(rows), 300 - start, 3))
+        valve = np.empty((len(rows), 300 - start))
+        _run_loops(*inputs, noise, rel, ref, np.asarray(rows), start, X, valve)
+        return X, valve
+
+    X, valve = run([0, 1, 2], 0)
+    # the measurement noise is noise + rel * ref, as if added beforehand
+    X2 = np.empty_like(X)
+    _run_loops(*inputs, noise + rel * ref[:, None], z, ref, np.arange(3), 0, X2, np.empty((3, 0)))
+    assert np.array_equal(X, X2)
+    Xt, vt = run([2, 0], 120)
+    assert np.array_equal(Xt, X[[2, 0], 120:]) and np.array_equal(vt, valve[[2, 0], 120:])
+
+
+def test_hold_mask_draws_like_one_run_at_a_time():
+    """The vectorised mask equals drawing gap, run, gap, ... one by one, and leaves the
+    generator in the same state."""
+    from sktiction.simulation import HoldLastValue
+
+    def one_at_a_time(fraction, mean_run, n, rng):
+        f = min(fraction, 0.99)
+        mean_gap = mean_run * (1.0 - f) / f
+        held = np.zeros(n, dtype=bool)
+        k = int(rng.geometric(1.0 / (1.0 + mean_gap)))
+        while k < n:
+            run = int(rng.geometric(1.0 / mean_run))
+            held[k : k + run] = True
+            k += run + int(rng.geometric(1.0 / (1.0 + mean_gap)))
+        return held
+
+    draw = np.random.default_rng(0)
+    for seed in range(60):
+        fraction, mean_run, n = draw.uniform(0.01, 1.0), draw.uniform(1.0, 30.0), 1 + seed * 40
+        a, b = np.random.default_rng(seed), np.random.default_rng(seed)
+        assert np.array_equal(HoldLastValue(fraction, mean_run).mask(n, a),
+                              one_at_a_time(fraction, mean_run, n, b))  # fmt: skip
+        assert a.random() == b.random()
+
+
+def test_span_and_lowpass_coefficients_equal_numpys_to_the_bit():
+    from sktiction.simulation.disturbances import _lag_power
+    from sktiction.simulation.historian import _span
+
+    rng = np.random.default_rng(0)
+    for n in [1, 2, 3, 7, 20, 101, 1000, 4097]:
+        x = np.round(rng.standard_normal(n) * 30.0, n % 3)
+        x[rng.random(n) < 0.1] = np.nan
+        finite = x[np.isfinite(x)]
+        expected = np.subtract(*np.percentile(finite, [95, 5])) if len(finite) else 0.0
+        assert _span(x) == expected
+    for a in rng.uniform(0.0, 1.0, 50):
+        for order in (1, 2, 3, 4):
+            assert np.array_equal(_lag_power(a, order), np.poly(np.full(order, a)))
