@@ -1,15 +1,28 @@
-"""Throughput of the compiled closed loop, in loop-samples per second on one core.
+"""Throughput of the simulator, in loop-samples per second on one core.
 
-Goal (GitHub issue 2): >= 1e7 loop-samples/s/core, i.e. 10,000 loops of 5,000
-samples in <= 5 s. The loops mix plant orders 1-4 and integrating plants with
-healthy, relay, Choudhury and Kano valves; each is started by a setpoint step.
-Loops are simulated in chunks to bound memory. Three figures: the compiled
-kernel alone (output buffers reused), ``simulate_loops`` end to end (fresh
-output arrays, discretisation, effects), and everything including building the
-plant and controller objects. Fresh memory is slow to fault in on some
-sandboxes, which is what separates the first two figures.
+Goals: the compiled closed loop >= 1e7 loop-samples/s/core (GitHub issue 2), and
+``make_loops(2000, n_samples=5000)`` end to end >= 1e7 loop-samples/s/core with
+default thread settings (issue 10), i.e. about 1 s of CPU for 2000 x 5000.
 
-Run: ``NUMBA_NUM_THREADS=1 python benchmarks/bench_simulation.py [n_loops n_samples]``
+Figures, for ``n_loops`` loops of ``n_samples`` samples:
+
+* the compiled kernel alone (output buffers reused) on loops mixing plant orders
+  1-4 and integrating plants with healthy, relay, Choudhury and Kano valves,
+  each started by a setpoint step; then ``simulate_loops`` end to end (fresh
+  output arrays, discretisation, effects) and everything including building the
+  plant and controller objects, in chunks to bound memory;
+* ``make_loops`` end to end for the default and the classic world, 3 runs each
+  (seeds 0-2): min / median / max of the rate in CPU time of this process
+  (``time.process_time``; the machine may be shared, which wall time shows) and
+  in wall time, and the median CPU rate over the kernel's. The default world
+  simulates a warm-up (``max(300, n_samples // 5)`` samples) before each record
+  and, for loops with SNR-specified noise in the loop, a noise-free pilot run
+  first, so its loops cost more kernel samples than they return.
+
+Fresh memory is slow to fault in on some sandboxes (virtual machines that hand
+freed memory back to the host), which is what separates the first two figures.
+
+Run: ``python benchmarks/bench_simulation.py [n_loops n_samples]`` (default 2000 5000)
 """
 
 from __future__ import annotations
@@ -19,6 +32,7 @@ import time
 
 import numpy as np
 
+from sktiction.datasets import make_loops
 from sktiction.simulation import (
     ChoudhuryValve,
     IntegratingPlant,
@@ -32,6 +46,7 @@ from sktiction.simulation import (
 )
 
 GOAL = 1e7
+RUNS = 3
 
 
 def build(n_loops, rng):
@@ -52,36 +67,66 @@ def build(n_loops, rng):
     return plants, ctrls, valves
 
 
-def main(n_loops=10_000, n_samples=5_000, chunk=250):
+def main(n_loops=2000, n_samples=5000, chunk=250):
     rng = np.random.default_rng(0)
     warm = build(4, rng)
     simulate_loops(*warm, 100, 1.0, effects=[SetpointSteps([5.0], [1.0])])  # compile / load cache
     samples = n_loops * n_samples
     print(f"{n_loops} loops x {n_samples} samples = {samples:.3g} loop-samples")
-    report("compiled kernel", kernel_time(n_loops, n_samples, chunk, rng), samples)
-    start = time.perf_counter()
-    sim = 0.0
+    kernel_wall, kernel_cpu = kernel_time(n_loops, n_samples, chunk, rng)
+    report("compiled kernel", kernel_wall, kernel_cpu, samples)
+    start = time.perf_counter(), time.process_time()
+    sim = [0.0, 0.0]
     for lo in range(0, n_loops, chunk):
         n = min(chunk, n_loops - lo)
         loops = build(n, rng)
-        t0 = time.perf_counter()
+        t0 = time.perf_counter(), time.process_time()
         simulate_loops(*loops, n_samples, 1.0, effects=[SetpointSteps([5.0], [1.0])])
-        sim += time.perf_counter() - t0
-    total = time.perf_counter() - start
-    report("simulate_loops", sim, samples)
-    report("incl. building objects", total, samples)
+        sim[0] += time.perf_counter() - t0[0]
+        sim[1] += time.process_time() - t0[1]
+    total = time.perf_counter() - start[0], time.process_time() - start[1]
+    report("simulate_loops", *sim, samples)
+    report("incl. building objects", *total, samples)
+    kernel_rate = samples / kernel_cpu
+    for world in ("default", "classic"):
+        make_loops(4, 200, world=world, random_state=0)  # compile / load cache
+        wall, cpu = [], []
+        for seed in range(RUNS):
+            t0 = time.perf_counter(), time.process_time()
+            make_loops(n_loops, n_samples, world=world, random_state=seed)
+            wall.append(time.perf_counter() - t0[0])
+            cpu.append(time.process_time() - t0[1])
+        report_runs(f"make_loops {world}", wall, cpu, samples, kernel_rate)
 
 
-def report(label, seconds, samples):
-    rate = samples / seconds
+def report(label, wall, cpu, samples):
+    rate = samples / cpu
     print(
-        f"{label:>24}: {seconds:6.2f} s -> {rate:.3g} loop-samples/s/core "
-        f"({rate / GOAL:.2f} x the 1e7 goal)"
+        f"{label:>24}: {cpu:6.2f} s CPU -> {rate:.3g} loop-samples/s/core "
+        f"({rate / GOAL:.2f} x the 1e7 goal); wall {wall:.2f} s -> {samples / wall:.3g}/s"
+    )
+
+
+def report_runs(label, wall, cpu, samples, kernel_rate):
+    """Min / median / max rate of ``RUNS`` runs, CPU and wall, and the CPU median's share
+    of the kernel's rate."""
+
+    def rates(seconds):
+        r = np.sort(samples / np.asarray(seconds))
+        return r[0], np.median(r), r[-1]
+
+    lo, med, hi = rates(cpu)
+    wlo, wmed, whi = rates(wall)
+    print(
+        f"{label:>24}: CPU {lo:.3g} / {med:.3g} / {hi:.3g} loop-samples/s/core "
+        f"(min / median / max of {len(cpu)}; median {med / GOAL:.2f} x the 1e7 goal, "
+        f"{med / kernel_rate:.2f} x the kernel alone); "
+        f"wall {wlo:.3g} / {wmed:.3g} / {whi:.3g}/s"
     )
 
 
 def kernel_time(n_loops, n_samples, chunk, rng):
-    """Time ``_run_loops`` alone on prepared inputs, reusing the output buffers."""
+    """Wall and CPU time of ``_run_loops`` alone on prepared inputs, output buffers reused."""
     from sktiction.simulation.loop import _discretize_all, _run_loops
     from sktiction.simulation.valves import N_PARAMS, STATE_SIZE
 
@@ -90,7 +135,7 @@ def kernel_time(n_loops, n_samples, chunk, rng):
     sp = np.full((chunk, n_samples), 50.0)
     sp[:, 5:] += 1.0
     zeros = np.zeros((chunk, 1))
-    elapsed = 0.0
+    wall = cpu = 0.0
     for lo in range(0, n_loops, chunk):
         plants, ctrls, valves = build(chunk, rng)
         A, B0, B1, C, nxs, delay = _discretize_all(plants, np.ones(chunk))
@@ -134,10 +179,11 @@ def kernel_time(n_loops, n_samples, chunk, rng):
         )
         if lo == 0:
             _run_loops(*args)  # compile or load from cache outside the timing
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         _run_loops(*args)
-        elapsed += time.perf_counter() - t0
-    return elapsed
+        wall += time.perf_counter() - t0
+        cpu += time.process_time() - c0
+    return wall, cpu
 
 
 if __name__ == "__main__":
