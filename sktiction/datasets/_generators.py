@@ -653,7 +653,8 @@ def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
     record (a band wider than anything OP does there) are drawn again.
 
     The records are written straight into the output (the warm-up is simulated, not
-    stored) and the valve positions are looked at chunk by chunk, never kept whole.
+    stored); each chunk's valve positions are looked at and its PV put in its units
+    while the chunk is fresh, so the valve positions are never kept whole.
     """
     X = np.empty((len(labels), n_samples, 3))
     todo = np.arange(len(labels))
@@ -678,6 +679,12 @@ def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
             for k in range(lo, hi):
                 row[k].setdefault("slip_snr", np.nan)
                 row[k]["stiction_visible"] = bool(row[k]["slip_snr"] >= _VISIBLE_SLIP_SNR)
+            # a linear plant's PV can be relabelled exactly: other units, other level
+            scale = np.array([r[1] for r in rec[lo:hi]])[:, None]
+            center = np.array([r[2] for r in rec[lo:hi]])[:, None]
+            for c in (0, 2):
+                out[lo:hi, :, c] -= 50.0 - center
+                out[lo:hi, :, c] *= scale
 
         loops = _loop_arrays(
             plants, controllers, valves, np.full(len(todo), float(ts)),
@@ -696,13 +703,7 @@ def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
 
 
 def _finish_default(X, records, ts, rng):
-    """Set PV units, apply recording effects and record lengths, in place."""
-    scale = np.array([r[1] for r in records])[:, None]
-    center = np.array([r[2] for r in records])[:, None]
-    # a linear plant's PV can be relabelled exactly: other units, other level
-    for c in (0, 2):
-        X[:, :, c] -= 50.0 - center
-        X[:, :, c] *= scale
+    """Apply recording effects and record lengths, in place."""
     for j, (rec, _, _, length, _) in enumerate(records):
         if rec:
             sig = {"pv": X[j, :, 0].copy(), "op": X[j, :, 1].copy(), "sp": X[j, :, 2].copy()}
