@@ -2,15 +2,29 @@
 
 import numpy as np
 import pytest
+from scipy.signal import lfilter
 
 from sktiction.cycles import (
+    CycleAnalysis,
+    OscillationComponent,
     analyze_cycles,
+    detect_oscillations,
     dominant_period,
     horch_filter,
+    moving_average,
     noise_std,
     remove_mean,
     schmitt_crossings,
 )
+from sktiction.cycles._analysis import (
+    CONFIRM_ACF,
+    CYCLE_EVIDENCE,
+    _regular_runs,
+    _segments,
+    _set_detection,
+    _with_evidence,
+)
+from sktiction.cycles._oscillation import SCORE_SCALE
 
 STRETCH = 1000
 
@@ -108,3 +122,295 @@ def test_horch_filter_cuts_noise_keeps_the_oscillation():
 def test_short_and_flat_signals_do_not_oscillate():
     assert not analyze_cycles(np.zeros(500)).oscillating
     assert not analyze_cycles(np.sin(np.arange(30) / 3)).oscillating
+
+
+# ---- known answers of the steps of analyze_cycles ------------------------------------
+
+
+def square(halves, amplitude=1.0):
+    """A clean square wave whose half-cycles last ``halves`` samples, first one positive."""
+    return np.concatenate([amplitude * (-1) ** k * np.ones(h) for k, h in enumerate(halves)])
+
+
+def test_regular_runs_follow_a_slow_change_of_period():
+    assert _regular_runs(np.empty(0), 0.5) == []
+    # a period drifting from 100 to 300 stays within 20 % of its neighbours' median
+    assert _regular_runs(np.linspace(100, 300, 21), 0.2) == [(0, 21)]
+    # a stray first cycle is judged by the cycles after it (reflected, not zero-padded)
+    assert _regular_runs(np.array([100.0, 200, 200, 200, 200]), 0.4) == [(1, 5)]
+    # within the tolerance is regular, the bound included
+    assert _regular_runs(np.array([100.0, 100, 150, 100, 100]), 0.5) == [(0, 5)]
+    assert _regular_runs(np.array([100.0, 100, 151, 100, 100]), 0.5) == [(0, 2), (3, 5)]
+
+
+def test_regular_runs_of_three_cycles_use_their_neighbourhoods():
+    # reflected windows: cycle 1 (300) is judged against median(300, 100, 300, 200, 300)
+    assert _regular_runs(np.array([100.0, 300, 200]), 0.4) == [(1, 3)]
+    # two cycles: their common median
+    assert _regular_runs(np.array([100.0, 130]), 0.2) == [(0, 2)]
+    assert _regular_runs(np.array([100.0, 160]), 0.2) == []
+
+
+def _halves(before, edge_before, run, edge_after, after):
+    """Heights and durations of half-cycles around a run of kept ones (see _segments)."""
+    parts = [before, [edge_before], run, [edge_after], after]
+    height = np.array([h for part in parts for h, _ in part], dtype=float)
+    durations = np.array([d for part in parts for _, d in part], dtype=float)
+    crossings = np.concatenate([[0.3], 0.3 + np.cumsum(durations)])
+    return height, np.arange(height.size), crossings
+
+
+@pytest.mark.parametrize(
+    "edge_before, edge_after, widened",
+    [
+        ((1.0, 15.0), (0.99, 10.0), (True, False)),  # half the height, 1.5 times as long
+        ((1.0, 15.01), (1.0, 15.0), (False, True)),
+        ((0.99, 10.0), (1.0, 20.0), (False, False)),
+        ((3.0, 10.0), (1.0, 10.0), (True, True)),
+    ],
+)
+def test_segments_take_in_an_edge_half_that_swings_like_the_run(edge_before, edge_after, widened):
+    big, run = [(50.0, 10.0)] * 5, [(2.0, 10.0)] * 4  # the run: halves 6 to 9
+    height, peaks, crossings = _halves(big, edge_before, run, edge_after, big + big[:2])
+    start = crossings[5] if widened[0] else crossings[6]
+    end = crossings[11] if widened[1] else crossings[10]
+    segments = _segments(height, crossings, peaks, np.array([6, 8]))
+    assert segments == [(int(np.floor(start)), int(np.ceil(end)) + 1)]
+
+
+def test_segments_of_one_cycle_of_separate_runs_and_at_the_edges():
+    height, peaks, crossings = _halves([(2.0, 10.0)], (2.0, 10.0), [(2.0, 10.0)] * 6,
+                                       (2.0, 10.0), [])  # fmt: skip
+    # cycle 3 alone (crossings 3 to 5), widened by one half each side
+    assert _segments(height, crossings, peaks, np.array([3])) == [(20, 62)]
+    # cycles 1 and 5 are not consecutive: two segments
+    assert _segments(height, crossings, peaks, np.array([1, 5])) == [(0, 42), (40, 82)]
+    # the run starts at the second crossing: the half before it is taken in
+    assert _segments(height, crossings, peaks, np.array([1, 3]))[0][0] == 0
+
+
+def _component(index, period=100.0, share=0.5):
+    return OscillationComponent(period, 2.0, index, 10.0, 0.5, share)
+
+
+def test_detection_fields_from_the_components():
+    a = CycleAnalysis(*(np.zeros(3),) * 5, acf_strength=0.3)
+    comps = [_component(0.9, 50.0), _component(0.5, 70.0), _component(0.2, 90.0)]
+    comps[0].regularity = 4.0
+    _set_detection(a, comps, 0.5, 0.3)  # index 0.5 is not above the threshold 0.5
+    assert a.oscillating and a.oscillation_index == 0.9 and a.components is comps
+    assert a.periods.tolist() == [50.0] and a.regularities.tolist() == [4.0]
+    _set_detection(a, comps, 0.5, 0.31)  # ACF peak below min_acf
+    assert not a.oscillating and a.periods.tolist() == [50.0]
+    _set_detection(a, [], 0.5, 0.0)
+    assert not a.oscillating and a.oscillation_index == 0.0
+    assert a.periods.shape == a.regularities.shape == (0,)
+
+
+def test_evidence_is_added_on_the_logit_scale():
+    assert _with_evidence(_component(0.5), SCORE_SCALE * np.log(3)).index == pytest.approx(0.75)
+    assert _with_evidence(_component(0.2), 0.0).index == pytest.approx(0.2)
+    # indices of exactly 0 and 1 are taken as 1e-12 from them
+    assert _with_evidence(_component(0.0), SCORE_SCALE * np.log(1e12)).index == pytest.approx(
+        0.5, abs=1e-3
+    )
+    assert _with_evidence(_component(1.0), -SCORE_SCALE * np.log(1e12)).index == pytest.approx(
+        0.5, abs=1e-3
+    )
+    boosted = _with_evidence(_component(0.3, 80.0, 0.7), 0.1)
+    assert (boosted.period, boosted.share) == (80.0, 0.7)
+
+
+def _boosted(index):
+    score = np.log(index / (1 - index)) + CYCLE_EVIDENCE / SCORE_SCALE
+    return 1 / (1 + np.exp(-score))
+
+
+def _ar_noise(seed):
+    return lfilter([1.0], [1.0, -0.9], np.random.default_rng(seed).normal(size=1000))
+
+
+@pytest.mark.parametrize(
+    "name, x",
+    [
+        ("four slow cycles", np.sin(2 * np.pi * np.arange(400) / 100)),
+        ("square wave", square([25] + [50] * 20 + [25])),
+        ("AR(1) noise", _ar_noise(2)),  # cycles regular enough, but a weak ACF peak
+        ("AR(1) noise 13", _ar_noise(13)),
+    ],
+)
+def test_components_are_the_detectors_with_the_cycles_evidence(name, x):
+    a = analyze_cycles(x)
+    detected = detect_oscillations(x)
+    assert len(a.cycles) > 0 and len(a.components) == len(detected) > 0
+    confirm = a.regularity > 1 and a.acf_strength > CONFIRM_ACF
+    assert confirm == (name in ("four slow cycles", "square wave"))
+    n_boosted = 0
+    for got, c in zip(a.components, detected):
+        assert got.period == c.period
+        if confirm and abs(np.log(c.period / a.period)) < 0.25:
+            assert got.index == pytest.approx(_boosted(c.index), rel=1e-12)
+            n_boosted += 1
+        else:
+            assert got.index == c.index
+    assert n_boosted == (1 if confirm else 0)
+    assert a.oscillation_index == max(c.index for c in a.components)
+
+
+def test_defaults_are_as_documented():
+    rng = np.random.default_rng(1)
+    # cycles of 100 samples with one of 200 in the middle, and a sine in heavy noise
+    steps = square([25] + [50] * 10 + [100, 100] + [50] * 10 + [25])
+    steps = steps + rng.normal(0, 0.3, steps.size)
+    noisy = np.sin(2 * np.pi * np.arange(2000) / 100) + rng.normal(0, 0.8, 2000)
+    for x in (steps, noisy):
+        default = analyze_cycles(x)
+        same = analyze_cycles(x, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
+                              threshold=0.5)  # fmt: skip
+        for field in ("crossings", "cycles", "segments", "period", "regularity", "periods"):
+            assert np.array_equal(getattr(default, field), getattr(same, field))
+    # each setting matters on these signals, so the comparison above has teeth
+    assert analyze_cycles(noisy, hysteresis=4.0).crossings.size < default.crossings.size
+    default = analyze_cycles(steps)
+    assert len(analyze_cycles(steps, tolerance=1.5).cycles) > len(default.cycles)
+    assert len(analyze_cycles(steps, min_cycles=6).cycles) < len(default.cycles)
+
+
+def test_cycles_of_a_clean_square_wave():
+    # 8 half-cycles of 50 samples (after a quarter): 3 full cycles, crossings between samples
+    x = square([25] + [50] * 6 + [25])
+    a = analyze_cycles(x)
+    assert np.allclose(a.crossings, 24.5 + 50 * np.arange(7), atol=0.05)
+    assert a.signs.tolist() == [-1, 1, -1, 1, -1, 1, -1]
+    assert a.cycles.tolist() == [[0, 1, 2], [2, 3, 4], [4, 5, 6]]
+    assert a.period == pytest.approx(100, abs=0.1) and a.regularity > 100
+    assert a.segments == [(int(np.floor(a.crossings[0])), int(np.ceil(a.crossings[-1])) + 1)]
+    assert len(analyze_cycles(x, min_cycles=4).cycles) == 0
+    # one full cycle from three crossings
+    one = analyze_cycles(square([25, 50, 50, 25]), min_cycles=1)
+    assert one.crossings.size == 3 and one.cycles.tolist() == [[0, 1, 2]]
+
+
+def test_cycles_start_on_the_first_crossing_s_sign_and_exclude_an_odd_cycle():
+    rng = np.random.default_rng(4)
+    x = square([30] + [50] * 10 + [100, 100] + [50] * 10 + [30])
+    x = x + rng.normal(0, 0.05, x.size)
+    a = analyze_cycles(x)
+    assert (a.signs[a.cycles[:, 0]] == a.signs[0]).all()  # every cycle in the same order
+    assert np.array_equal(a.cycles, a.cycles[:, :1] + np.arange(3))
+    long = np.flatnonzero(np.diff(a.crossings) > 75)  # the two long halves
+    assert long.tolist() == [10, 11]
+    assert 10 not in a.cycles[:, 0]  # the 200-sample cycle is not kept, the 10 others are
+    assert a.cycles[:, 0].tolist() == [0, 2, 4, 6, 8, 12, 14, 16, 18, 20]
+    # its regularity is Thornhill's r of the kept periods
+    p = a.crossings[a.cycles[:, 2]] - a.crossings[a.cycles[:, 0]]
+    assert a.regularity == pytest.approx(p.mean() / (3 * p.std()))
+
+
+def test_regularity_of_alternating_periods():
+    # cycles of 90 and 110 samples in turn: r = 100 / (3 * 10) (Thornhill et al., 2003)
+    a = analyze_cycles(square([30] + [45, 45, 55, 55] * 6))
+    designed = np.array([90, 110] * 5 + [90])
+    assert len(a.cycles) == designed.size
+    assert a.regularity == pytest.approx(designed.mean() / (3 * designed.std()), rel=0.03)
+    # periods 100 and 101: a spread under one sample still counts
+    assert analyze_cycles(square([30] + [50, 50, 50, 51] * 6)).regularity < 100
+
+
+def test_peaks_and_acf_peak_of_a_sine():
+    t = np.arange(2000)
+    a = analyze_cycles(np.sin(2 * np.pi * t / 100))
+    inner = a.peaks[1:-1]  # the first and last halves are cut by the record's ends
+    assert np.allclose(inner % 50, 25, atol=1)  # a quarter period after each crossing
+    assert np.allclose(np.abs(a.centred[inner]), 1, atol=0.01)
+    assert np.array_equal(np.sign(a.centred[a.peaks]), a.signs[:-1])
+    # biased ACF of a periodic signal at one period: (n - P) / n
+    assert a.acf_strength == pytest.approx(1 - 100 / 2000, abs=0.005)
+    assert a.regularities.shape == a.periods.shape == (1,)
+
+
+def test_smoothing_is_as_wide_as_the_noise_needs():
+    t = np.arange(2000)
+    rng = np.random.default_rng(0)
+    clean = 0.5 * np.sign(np.sin(2 * np.pi * t / 100))
+    # noise 0.01 on an amplitude 0.5: 2 sigma / A of a period of 100, 4 samples
+    a = analyze_cycles(clean + rng.normal(0, 0.01, t.size))
+    assert np.allclose(a.smooth, moving_average(a.centred, 4))
+    # at most a tenth of a period
+    a = analyze_cycles(clean + rng.normal(0, 0.1, t.size))
+    assert np.allclose(a.smooth, moving_average(a.centred, 10))
+    # none on a clean signal
+    a = analyze_cycles(np.abs((t % 100) / 50 - 1))
+    assert noise_std(a.centred) == 0 and np.array_equal(a.smooth, a.centred)
+
+
+@pytest.mark.parametrize("scale", [1e-13, 1e-6, 1e6])
+def test_scale_and_offset_change_nothing(scale):
+    t = np.arange(2000)
+    rng = np.random.default_rng(0)
+    noisy = 0.5 * np.sign(np.sin(2 * np.pi * t / 100)) + rng.normal(0, 0.01, t.size)
+    for x in (noisy, np.abs((t % 100) / 50 - 1)):
+        a, b = analyze_cycles(x), analyze_cycles(scale * x + 3 * scale)
+        assert b.oscillating and np.array_equal(a.cycles, b.cycles)
+        assert np.allclose(a.crossings, b.crossings) and b.segments == a.segments
+        assert b.acf_strength == pytest.approx(a.acf_strength)
+        assert b.oscillation_index == pytest.approx(a.oscillation_index)
+        assert np.allclose(b.centred, scale * a.centred)
+
+
+@pytest.mark.parametrize("n, period", [(300, 160), (307, 60), (300, 120), (2000, 100)])
+def test_mean_removal_uses_the_acf_period(n, period):
+    # the dominant period read up to half the record (at 160 of 300, the last lag 150)
+    t = np.arange(n)
+    x = np.sin(2 * np.pi * t / period) + 0.01 * t
+    a = analyze_cycles(x)
+    p0, strength = dominant_period(x)
+    assert a.acf_strength == pytest.approx(strength, rel=1e-9)
+    assert np.allclose(a.centred, remove_mean(x, p0))
+
+
+def test_mean_removal_uses_the_main_component_when_the_acf_disagrees():
+    t = np.arange(3000)
+    # a slow wave 5 times as large hides the ACF lobe of a cycle of 50 samples
+    x = np.sin(2 * np.pi * t / 50) + 5 * np.sin(2 * np.pi * t / 2500)
+    assert np.isnan(dominant_period(x)[0])
+    a = analyze_cycles(x)
+    assert a.period == pytest.approx(50, abs=0.5) and len(a.cycles) >= 55
+    # twice as large: the ACF finds a wrong period of about 500 samples
+    x = np.sin(2 * np.pi * t / 50) + 2 * np.sin(2 * np.pi * t / 2500)
+    assert dominant_period(x)[0] > 400
+    a = analyze_cycles(x)
+    inner = slice(100, -100)
+    assert np.allclose(a.centred[inner], np.sin(2 * np.pi * t / 50)[inner], atol=0.05)
+    # two oscillations (40 and 170), the ACF's 123 agreeing with neither
+    x = np.sin(2 * np.pi * t / 40) + 1.5 * np.sin(2 * np.pi * t / 170)
+    a = analyze_cycles(x)
+    main = max(a.components, key=lambda c: c.share)
+    assert main.period == pytest.approx(170, abs=1)
+    assert np.allclose(a.centred, remove_mean(x, main.period))
+
+
+def test_mean_removal_keeps_an_acf_period_that_a_weaker_component_shares():
+    t = np.arange(3000)
+    x = np.sin(2 * np.pi * t / 40) + 1.1 * np.sin(2 * np.pi * t / 100)
+    a = analyze_cycles(x)
+    p0 = dominant_period(x)[0]
+    found = {round(c.period): c.share for c in a.components if c.index > 0.5}
+    assert abs(p0 - 40) < 3 and found[40] < found[100]  # the 100 carries more power
+    assert np.allclose(a.centred, remove_mean(x, p0))
+
+
+def test_historian_repeats_are_read_as_recorded_for_the_period():
+    t = np.arange(0, 2000, 2)
+    x = np.repeat(np.round(np.sin(2 * np.pi * t / 40), 2), 2)  # each value held twice
+    a = analyze_cycles(x)
+    p0, strength = dominant_period(x)
+    assert a.oscillating and a.period == pytest.approx(40, abs=0.5)
+    assert a.acf_strength == pytest.approx(strength, rel=1e-9)
+
+
+def test_records_too_short_for_an_acf():
+    for x in ([1.0, 2.0], [1.0, 3.0, 2.0]):
+        a = analyze_cycles(x)
+        assert a.acf_strength == 0.0 and not a.oscillating and a.components == []
+    assert analyze_cycles(np.full(100, 3.0)).components == []
