@@ -22,6 +22,8 @@ def test_noise_std_of_white_noise_and_of_records_too_short():
     assert noise_std(5 + 2 * np.arange(50)) == 0.0
     assert noise_std(np.r_[np.zeros(50), np.ones(50)]) == 0.0
     assert noise_std([1.0, 2.0]) == 0.0  # no second difference at all
+    # constant curvature is a trend, not noise
+    assert noise_std(0.01 * np.arange(500.0) ** 2) == pytest.approx(0.0, abs=1e-12)
 
 
 def test_autocorrelation_is_the_normalised_lagged_product():
@@ -33,6 +35,10 @@ def test_autocorrelation_is_the_normalised_lagged_product():
     assert r.shape == (11,) and r[0] == pytest.approx(1.0)
     assert np.allclose(r, direct)
     assert np.array_equal(autocorrelation(np.full(20, 4.0), 5), np.zeros(6))
+    # a negative first lag, and a tiny amplitude, are normalised like any other
+    alternating = (-1.0) ** np.arange(100)
+    assert autocorrelation(alternating, 2)[1] == pytest.approx(-0.99)
+    assert np.allclose(autocorrelation(1e-4 * x, 10), r)
 
 
 @pytest.mark.parametrize(
@@ -41,6 +47,8 @@ def test_autocorrelation_is_the_normalised_lagged_product():
         ([1.0, 0.5, -0.2, 0.3, 0.6, 0.4, -0.1, 0.9], (4.0, 0.6)),  # later lobes ignored
         ([1.0, -0.5, 0.2, 0.7], (3.0, 0.7)),  # the lobe runs to the last lag
         ([1.0, 0.0, -0.5, 0.0, 0.3], (4.0, 0.3)),  # zeros are neither sign
+        ([1.0, 0.5, 0.0, 0.4, -0.3, 0.6], (5.0, 0.6)),  # a touch of zero is no crossing
+        ([1.0, -0.5, 0.3, 0.0, 0.6, -0.2], (4.0, 0.6)),  # nor the end of a lobe
         ([1.0, 0.5, 0.2], (np.nan, 0.0)),  # never below zero
         ([1.0, 0.5, -0.2, 0.0], (np.nan, 0.0)),  # never back above zero
     ],
@@ -72,6 +80,7 @@ def test_moving_average_known_values():
     assert np.allclose(moving_average(np.array([3.0, 0, 0, 0, 6]), 3), [2, 1, 0, 2, 4])
     one = moving_average(x, 0.4)  # windows under 1 sample leave the signal as it is
     assert np.array_equal(one, x) and one is not x
+    assert moving_average([1, 2, 3], 1).dtype == moving_average([1, 2, 3], 2).dtype == float
 
 
 def test_remove_mean_uses_the_moving_mean_from_two_samples_to_half_the_record():
@@ -88,6 +97,7 @@ def test_remove_mean_uses_the_moving_mean_from_two_samples_to_half_the_record():
         assert np.allclose(remove_mean(x, period), x - line)
     assert np.allclose(remove_mean(x, 50), x - moving_average(x, 50))  # half the record
     assert np.array_equal(remove_mean([5.0], np.nan), [0.0])  # one sample has no slope
+    assert np.allclose(remove_mean([1.0, 3.0], np.nan), [0.0, 0.0])  # two make a line
 
 
 def test_horch_filter_gain_is_that_of_eq_23_run_twice():
@@ -101,5 +111,7 @@ def test_horch_filter_gain_is_that_of_eq_23_run_twice():
     assert np.ptp(y[middle]) / 2 == pytest.approx(gain, rel=1e-3)
     assert np.mean(y[middle]) == pytest.approx(7.0, abs=1e-3)  # unit gain at zero frequency
     x = np.sin(w * t)
+    steps = np.repeat([0, 10, 3], 100)  # integers are filtered as numbers, not truncated
+    assert np.allclose(horch_filter(steps, 20), horch_filter(steps.astype(float), 20))
     for no_period in (np.nan, 0, -5):
         assert np.array_equal(horch_filter(x, no_period), x)

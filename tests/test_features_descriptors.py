@@ -30,6 +30,7 @@ def test_jump_share_of_slips_and_of_a_still_signal():
     assert _jump_share(x) == pytest.approx(1.0)
     assert _jump_share(-x) == pytest.approx(1.0)  # absolute moves
     assert np.isnan(_jump_share(np.full(50, 2.0)))
+    assert _jump_share(np.array([0.0, 0.25, 1.0])) == 0.75  # a travel of exactly 1
 
 
 def test_saturated_share_counts_both_edges_within_the_tolerance():
@@ -110,4 +111,14 @@ def test_max_lag_must_be_a_positive_integer(max_lag):
 def test_the_smallest_max_lag():
     t = np.arange(400)
     op = np.sin(2 * np.pi * t / 50)
-    assert _describe(np.roll(op, 3), op, max_lag=1)["ccf_peak_lag"] == 1.0
+    assert _describe(np.roll(op, 1), op, max_lag=1)["ccf_peak_lag"] == 1.0
+
+
+def test_ccf_zero_lag_is_relative_to_the_peak_of_a_noisy_pv():
+    t = np.arange(4000)
+    op = 50 + 5 * np.sin(2 * np.pi * t / 200)
+    noise = np.random.default_rng(5).normal(0, 3.5, t.size)  # about as strong as the cycle
+    got = _describe(np.roll(op, 20) + noise, op)
+    # noise lowers every lag alike: the ratio is still that of the clean cycle
+    assert got["ccf_zero_lag"] == pytest.approx(np.cos(2 * np.pi * 20 / 200), abs=0.05)
+    assert got["ccf_peak_lag"] == pytest.approx(0.2, abs=0.03)
