@@ -82,23 +82,58 @@ def _phase_crossover(plant, kc, ti, ts, n_grid=600):
 
     The hold adds ``ts / 2`` of delay; the controller sign makes the DC loop gain positive.
     """
-    A, B, C = plant.state_space()
-    scale = plant.delay + max(plant.time_constant, 1e-3) + ts
-    w = _frequency_grid(n_grid) / scale
-    eye = np.eye(A.shape[0])
-    rhs = np.broadcast_to(B[:, None], (len(w), len(B), 1))
-    G = (np.linalg.solve(1j * w[:, None, None] * eye - A, rhs)[:, :, 0] @ C) * np.sign(plant.gain)
-    loop = kc * (1 + 1 / (1j * w * ti)) * G * np.exp(-1j * w * (plant.delay + ts / 2))
-    phase = np.unwrap(np.angle(loop))
-    above = phase > -np.pi
-    idx = np.nonzero(above[:-1] & ~above[1:])[0]
-    if len(idx) == 0:
-        return np.nan, np.inf
-    i = idx[0]
-    f = (-np.pi - phase[i]) / (phase[i + 1] - phase[i])
-    w180 = w[i] * (w[i + 1] / w[i]) ** f
-    mag = np.exp(np.log(abs(loop[i])) * (1 - f) + np.log(abs(loop[i + 1])) * f)
-    return w180, 1.0 / mag
+    w180, margin = _phase_crossovers([plant], [kc], [ti], np.array([float(ts)]), n_grid)
+    return w180[0], margin[0]
+
+
+def _phase_crossovers(plants, kc, ti, ts, n_grid):
+    """:func:`_phase_crossover` of many loops, frequency responses computed in batches of
+    plants with the same number of states (each loop's numbers as if computed alone)."""
+    w180, margin = np.full(len(plants), np.nan), np.full(len(plants), np.inf)
+    models = [p.state_space() for p in plants]
+    n_states = np.array([A.shape[0] for A, _, _ in models])
+    kc, ti = np.asarray(kc, dtype=float), np.asarray(ti, dtype=float)
+    delay = np.array([p.delay for p in plants])
+    # batches of at most 128 loops: a few MB of complex frequency responses each
+    batches = [
+        group[lo : lo + 128]
+        for n in np.unique(n_states)
+        for group in [np.flatnonzero(n_states == n)]
+        for lo in range(0, len(group), 128)
+    ]
+    for idx in batches:
+        n = n_states[idx[0]]
+        A = np.stack([models[i][0] for i in idx])
+        B = np.stack([models[i][1] for i in idx])
+        lag = np.array([max(plants[i].time_constant, 1e-3) for i in idx])
+        scale = delay[idx] + lag + ts[idx]
+        w = _frequency_grid(n_grid)[None, :] / scale[:, None]
+        rhs = np.broadcast_to(B[:, None, :, None], (len(idx), n_grid, n, 1))
+        x = np.linalg.solve(1j * w[:, :, None, None] * np.eye(n) - A[:, None], rhs)
+        G = np.stack([
+            (x[k, :, :, 0] @ models[i][2]) * np.sign(plants[i].gain) for k, i in enumerate(idx)
+        ])  # fmt: skip
+        t = ti[idx, None]
+        loop = (
+            kc[idx, None]
+            * (1 + 1 / (1j * w * t))
+            * G
+            * np.exp(-1j * w * (delay[idx] + ts[idx] / 2)[:, None])
+        )
+        phase = np.unwrap(np.angle(loop), axis=-1)
+        above = phase > -np.pi
+        cross = above[:, :-1] & ~above[:, 1:]
+        for k, i in enumerate(idx):
+            hits = np.nonzero(cross[k])[0]
+            if len(hits) == 0:
+                continue
+            j = hits[0]
+            p, wk, lk = phase[k], w[k], loop[k]
+            f = (-np.pi - p[j]) / (p[j + 1] - p[j])
+            w180[i] = wk[j] * (wk[j + 1] / wk[j]) ** f
+            mag = np.exp(np.log(abs(lk[j])) * (1 - f) + np.log(abs(lk[j + 1])) * f)
+            margin[i] = 1.0 / mag
+    return w180, margin
 
 
 def _settings(plant, rule, ts):
@@ -349,265 +384,338 @@ def _takes_loop_type(method):
 
 
 def _draw_default(labels, n_samples, n_warm, ts, opt, rng):
-    """Loops of the default world; returns simulator inputs and per-loop post-processing."""
+    """Loops of the default world; returns simulator inputs and per-loop post-processing.
+
+    Two passes: every loop's random draws first, loop by loop (none depends on the loop's
+    dynamics, so they come in the same order as when each loop was finished before the
+    next one was drawn), then the dynamics, with the phase crossovers of all loops
+    computed together, and the objects built from the draws.
+    """
+    realism = opt["realism"]
+    profiles = callable(getattr(realism, "loop_profile", None))
+    typed = realism is not None and _takes_loop_type(realism.recording_effects)
+    draws = [_default_draws(cause, n_samples, n_warm, ts, opt, rng, profiles, typed)
+             for cause in labels]  # fmt: skip
+
+    # tuning on the dimensionless plant (T = 1) first; Kc is invariant when time is rescaled
+    for d in draws:
+        d["plant0"], _ = _plant_for(d["order"], d["lam_target"], 1.0, d["sign"] * d["k_mag"])
+        d["kc0"], d["ti0"] = _settings(d["plant0"], d["rule"], 0.0)
+    w180, _ = _phase_crossovers(
+        [d["plant0"] for d in draws], [d["kc0"] for d in draws],
+        [d["ti0"] * d["ti_factor"] for d in draws], np.zeros(len(draws)), _GRID,
+    )  # fmt: skip
+    for d, w in zip(draws, w180, strict=True):
+        pu = 2 * np.pi / w  # ultimate period in units of T
+        period = pu if d["period_factor"] is None else pu * d["period_factor"]
+        # at least 4 samples per ultimate period: a loop sampled slower is not controlled
+        d["ts_d"] = min(period / d["samples_per_cycle"], pu / 4.0)
+        d["samples_per_cycle"] = period / d["ts_d"]
+        d["pu_samples"] = pu / d["ts_d"]
+        kc, ti = _settings(d["plant0"], d["rule"], d["ts_d"])
+        d["kc"], d["ti"] = kc * d["kc_factor"], ti * d["ti_factor"]
+        d["gain_factor"] = 1.0
+    aggressive = [d for d in draws if d["cause"] == "aggressive_tuning"]
+    if aggressive:
+        _, base_margin = _phase_crossovers(
+            [d["plant0"] for d in aggressive], [d["kc"] for d in aggressive],
+            [d["ti"] for d in aggressive], np.array([d["ts_d"] for d in aggressive]), _GRID,
+        )  # fmt: skip
+        for d, m in zip(aggressive, base_margin, strict=True):
+            d["gain_factor"] = m / d["margin"]
+
     plants, controllers, valves, effects, records, rows = [], [], [], [], [], []
+    for d in draws:
+        plant, ctrl, valve, eff, rec, row = _default_loop(d, n_samples, n_warm, ts)
+        plants.append(plant)
+        controllers.append(ctrl)
+        valves.append(valve)
+        effects.append(eff)
+        records.append(rec)
+        rows.append(row)
+    return plants, controllers, valves, effects, records, rows
+
+
+def _default_draws(cause, n_samples, n_warm, ts, opt, rng, profiles, typed):
+    """One loop's random draws of the default world, in the order they have always been made.
+
+    Objects that need none of the loop's dynamics are built here; the draws that scale
+    with it are kept for :func:`_default_loop`.
+    """
     lam_lo, lam_hi = opt["lambda_range"]
     p_lo, p_hi = opt["period_range"]
     s_lo, s_hi = opt["S_range"]
     realism = opt["realism"]
-    profiles = callable(getattr(realism, "loop_profile", None))
-    typed = realism is not None and _takes_loop_type(realism.recording_effects)
-    for cause in labels:
-        # a calibrated world copies one measured loop's profile: its loop type sets the plant
-        # type, its settings (noise, PV's own variation, oscillating or quiet, setpoint
-        # regime) and recording are this loop's, drawn alike for every cause
-        profile = realism.loop_profile(rng) if profiles else {}
-        settings = profile.get("settings", {})
-        lopt = {**opt, **{k: v for k, v in settings.items() if k not in opt["explicit"]}}
-        allowed = opt["orders"]
-        if profile.get("loop_type") in _TYPE_ORDERS:
-            allowed = [o for o in opt["orders"] if o in _TYPE_ORDERS[profile["loop_type"]]]
-            allowed = allowed or opt["orders"]
-        order = _pick(rng, allowed)
-        loop_type = profile.get("loop_type") or _loop_type(order)
-        snr_lo, snr_hi = lopt["snr_db_range"]
-        integrating = order == "integrating"
-        lam_target = rng.uniform(lam_lo, lam_hi)
-        # direct and reverse acting loops alike
-        sign = -1.0 if rng.random() < 0.5 else 1.0
-        k_mag = _loguniform(rng, 0.5, 2.0)
-        plant0, _ = _plant_for(order, lam_target, 1.0, sign * k_mag)
-        rules = [r for r in opt["rules"] if r in (_RULES_INT if integrating else _RULES_SELF)]
-        rule = _pick(rng, rules)
-        kc0, ti0 = _settings(plant0, rule, 0.0)
-        # how the loop is run, drawn alike for every cause
-        kc_factor = ti_factor = 1.0
-        loop_kind = "standard"
-        # quiet loops of every cause: sluggish integral action and slow process variation
-        # swamp the cycle's drive (an external oscillation is weak, a sticky valve sticks
-        # for long stretches and jerks along a wandering OP)
-        oscillating = True
-        if lopt["oscillating_fraction"] < 1.0:
-            oscillating = bool(rng.random() < lopt["oscillating_fraction"])
-        if integrating and rng.random() < 0.5:
-            # averaging level control: loose P-dominant tuning, OP follows PV in phase
-            loop_kind = "averaging"
-            kc_factor, ti_factor = _loguniform(rng, 0.1, 0.5), _loguniform(rng, 2.0, 10.0)
-        elif not oscillating or rng.random() < opt["slip_fraction"]:
-            loop_kind = "sluggish"
-            kc_factor, ti_factor = rng.uniform(0.4, 1.0), _loguniform(rng, 3.0, 20.0)
-        w180, _ = _phase_crossover(plant0, kc0, ti0 * ti_factor, 0.0, _GRID)
-        pu = 2 * np.pi / w180  # ultimate period in units of T
-        if cause == "stiction":
-            period = pu * _loguniform(rng, 1.5, 6.0)
-        elif cause == "aggressive_tuning":
-            period = pu
-        elif cause == "external_disturbance":
-            period = pu * _loguniform(rng, 0.7, 20.0)
-        else:
-            period = pu * _loguniform(rng, 1.0, 4.0)
-        samples_per_cycle = _loguniform(rng, p_lo, p_hi)
-        # at least 4 samples per ultimate period: a loop sampled slower is not controlled
-        ts_d = min(period / samples_per_cycle, pu / 4.0)
-        samples_per_cycle = period / ts_d
-        pu_samples = pu / ts_d
-        kc, ti = _settings(plant0, rule, ts_d)
-        kc, ti = kc * kc_factor, ti * ti_factor
-        gain_factor, margin = 1.0, np.nan
-        if cause == "aggressive_tuning":
-            _, base_margin = _phase_crossover(plant0, kc, ti, ts_d, _GRID)
-            margin = _loguniform(rng, *opt["gain_margin_range"])
-            gain_factor = base_margin / margin
-        scale = ts / ts_d
-        plant, lam = _plant_for(order, lam_target, scale, sign * k_mag)
-        ctrl = PIController(kc * gain_factor, ti * scale, rule=rule)
-        K, tau, Lapp = plant.foptd()
-        g = abs(K) if not integrating else abs(K) * (plant.delay + plant.time_constant)
-        nominal = 2.0 * g  # PV change of a 2 % valve move
+    # a calibrated world copies one measured loop's profile: its loop type sets the plant
+    # type, its settings (noise, PV's own variation, oscillating or quiet, setpoint
+    # regime) and recording are this loop's, drawn alike for every cause
+    profile = realism.loop_profile(rng) if profiles else {}
+    settings = profile.get("settings", {})
+    lopt = {**opt, **{k: v for k, v in settings.items() if k not in opt["explicit"]}}
+    allowed = opt["orders"]
+    if profile.get("loop_type") in _TYPE_ORDERS:
+        allowed = [o for o in opt["orders"] if o in _TYPE_ORDERS[profile["loop_type"]]]
+        allowed = allowed or opt["orders"]
+    d = {"cause": cause, "order": _pick(rng, allowed)}
+    order = d["order"]
+    d["loop_type"] = profile.get("loop_type") or _loop_type(order)
+    snr_lo, snr_hi = lopt["snr_db_range"]
+    integrating = d["integrating"] = order == "integrating"
+    d["lam_target"] = rng.uniform(lam_lo, lam_hi)
+    # direct and reverse acting loops alike
+    d["sign"] = -1.0 if rng.random() < 0.5 else 1.0
+    d["k_mag"] = _loguniform(rng, 0.5, 2.0)
+    rules = [r for r in opt["rules"] if r in (_RULES_INT if integrating else _RULES_SELF)]
+    d["rule"] = _pick(rng, rules)
+    # how the loop is run, drawn alike for every cause
+    kc_factor = ti_factor = 1.0
+    loop_kind = "standard"
+    # quiet loops of every cause: sluggish integral action and slow process variation
+    # swamp the cycle's drive (an external oscillation is weak, a sticky valve sticks
+    # for long stretches and jerks along a wandering OP)
+    oscillating = True
+    if lopt["oscillating_fraction"] < 1.0:
+        oscillating = bool(rng.random() < lopt["oscillating_fraction"])
+    if integrating and rng.random() < 0.5:
+        # averaging level control: loose P-dominant tuning, OP follows PV in phase
+        loop_kind = "averaging"
+        kc_factor, ti_factor = _loguniform(rng, 0.1, 0.5), _loguniform(rng, 2.0, 10.0)
+    elif not oscillating or rng.random() < opt["slip_fraction"]:
+        loop_kind = "sluggish"
+        kc_factor, ti_factor = rng.uniform(0.4, 1.0), _loguniform(rng, 3.0, 20.0)
+    d.update(oscillating=oscillating, loop_kind=loop_kind, kc_factor=kc_factor,
+             ti_factor=ti_factor)  # fmt: skip
+    # the period in ultimate periods (the aggressively tuned loop's is the ultimate one)
+    d["period_factor"] = {
+        "stiction": (1.5, 6.0), "external_disturbance": (0.7, 20.0), "none": (1.0, 4.0),
+    }.get(cause)  # fmt: skip
+    if d["period_factor"] is not None:
+        d["period_factor"] = _loguniform(rng, *d["period_factor"])
+    d["samples_per_cycle"] = _loguniform(rng, p_lo, p_hi)
+    d["margin"] = np.nan
+    if cause == "aggressive_tuning":
+        d["margin"] = _loguniform(rng, *opt["gain_margin_range"])
 
-        # a feed change at the start of the warm-up moves every loop off its initial
-        # rest, so a sticky valve is cycling or slipping by the time the record starts
-        eff = [LoadStep(_loguniform(rng, 0.5, 5.0) * rng.choice([-1.0, 1.0]))]
-        # process noise near the loop's bandwidth and a slow random walk, every loop
-        where = "input" if rng.random() < 0.5 else "output"
-        unit = 2.0 if where == "input" else nominal
-        cutoff = min(_loguniform(rng, 0.3, 3.0) / pu_samples, 0.45)
-        size = _loguniform(rng, 0.005, 0.5)
+    # a feed change at the start of the warm-up moves every loop off its initial
+    # rest, so a sticky valve is cycling or slipping by the time the record starts
+    d["load_step"] = LoadStep(_loguniform(rng, 0.5, 5.0) * rng.choice([-1.0, 1.0]))
+    # process noise near the loop's bandwidth and a slow random walk, every loop
+    d["load_where"] = "input" if rng.random() < 0.5 else "output"
+    d["load_cutoff"] = _loguniform(rng, 0.3, 3.0)  # times the ultimate frequency
+    d["load_size"] = _loguniform(rng, 0.005, 0.5)
+    if not oscillating:
+        d["load_cutoff"] = _loguniform(rng, 0.05, 0.5)
+        d["load_size"] = _loguniform(rng, 0.5, 3.0)
+    d["load_order"] = int(rng.integers(1, 3))
+    d["walk"] = rng.uniform(0.001, 0.004) if rng.random() < 0.5 else None
+    d["drift"] = rng.random() < 0.3
+    if d["drift"]:
+        d["drift_where"] = "input" if rng.random() < 0.5 else "output"
+        d["drift_size"] = _loguniform(rng, 0.3, 2.0)
+        d["drift_segments"] = int(rng.integers(1, 4))
+
+    S = J = np.nan
+    valve = LinearValve()
+    model = "linear"
+    if cause == "stiction":
+        model = _pick(rng, opt["stiction_models"])
+        S = _loguniform(rng, s_lo, s_hi)
+        J = S if model == "relay" else float(S * rng.uniform(0.1, 1.0))
+        if model == "relay":
+            valve = RelayValve(S)
+        elif model == "he":
+            valve = HeValve.from_sj(S, J)
+        else:
+            valve = make_valve(model, S=S, J=J)
+    d.update(S=S, J=J, valve=valve)
+    d["disturbance"] = ""
+    if cause == "external_disturbance":
+        kind = d["disturbance"] = _pick(rng, ("sine", "narrowband", "square"))
+        d["dist_where"] = "input" if rng.random() < 0.4 else "output"
+        d["dist_size"] = [_loguniform(rng, 0.5, 3.0)]
         if not oscillating:
-            cutoff = min(_loguniform(rng, 0.05, 0.5) / pu_samples, 0.45)
-            size = _loguniform(rng, 0.5, 3.0)
-        eff.append(ColouredLoad(unit * size, cutoff, int(rng.integers(1, 3)), where))
-        if rng.random() < 0.5:
-            eff.append(RandomWalkLoad(float(nominal * rng.uniform(0.001, 0.004))))
-        drift = rng.random() < 0.3
-        if drift:
-            where = "input" if rng.random() < 0.5 else "output"
-            unit = 2.0 if where == "input" else nominal
-            eff.append(Drift(unit * _loguniform(rng, 0.3, 2.0), int(rng.integers(1, 4)), where))
-
-        S = J = np.nan
-        valve = LinearValve()
-        model = "linear"
-        if cause == "stiction":
-            model = _pick(rng, opt["stiction_models"])
-            S = _loguniform(rng, s_lo, s_hi)
-            J = S if model == "relay" else float(S * rng.uniform(0.1, 1.0))
-            if model == "relay":
-                valve = RelayValve(S)
-            elif model == "he":
-                valve = HeValve.from_sj(S, J)
-            else:
-                valve = make_valve(model, S=S, J=J)
-        disturbance = ""
-        if cause == "external_disturbance":
-            disturbance = _pick(rng, ("sine", "narrowband", "square"))
-            where = "input" if rng.random() < 0.4 else "output"
-            amp = (2.0 if where == "input" else nominal) * _loguniform(rng, 0.5, 3.0)
-            if not oscillating:
-                amp *= _loguniform(rng, 0.05, 0.3)
-            dist_period = ts * samples_per_cycle
-            if disturbance == "sine":
-                d = SinusoidalDisturbance(amp, dist_period, rng.uniform(0, 2 * np.pi), where)
-            elif disturbance == "narrowband":
-                d = NarrowbandDisturbance(amp, dist_period, _loguniform(rng, 0.01, 0.2), where)
-            else:
-                d = SquareDisturbance(
-                    amp, dist_period, lag=dist_period * rng.uniform(0.0, 0.15),
-                    phase=rng.uniform(0, 2 * np.pi), jitter=rng.uniform(0.0, 0.2), where=where,
-                )  # fmt: skip
-            eff.append(d)
-
-        regime = lopt.get("setpoint_regime")
-        if regime not in opt["setpoint_regimes"]:
-            weights = [lopt["setpoint_weights"].get(r, 0.0) for r in opt["setpoint_regimes"]]
-            regime = _pick(rng, opt["setpoint_regimes"], weights)
-        if regime in ("steps", "step"):
-            n_steps = int(rng.integers(1, 7)) if regime == "steps" else 1
-            lo_size, hi_size = (0.2, 2.0) if regime == "steps" else (1.0, 4.0)
-            times = n_warm + np.sort(rng.uniform(0.05, 0.9, n_steps)) * n_samples
-            sizes = nominal * np.exp(rng.uniform(np.log(lo_size), np.log(hi_size), n_steps))
-            sizes *= rng.choice([-1.0, 1.0], n_steps)
-            eff.append(SetpointSteps((ts * np.round(times)).tolist(), sizes.tolist()))
-        elif regime == "cascade":
-            phi = float(np.exp(-1.0 / (pu_samples * _loguniform(rng, 0.5, 5.0))))
-            eff.append(
-                CascadeSetpoint(nominal * _loguniform(rng, 0.1, 1.0), phi, rng.uniform(0.0, 0.5))
-            )
-
-        # PV's own variation, which OP does not explain, slower than the loop's bandwidth: at
-        # the sensor, so the controller does not act on it (seen by the controller, it is
-        # rejected and moves OP: PV and OP stay as tightly linked as without it)
-        own_lo, own_hi = lopt["pv_own_share"]
-        own, own_effect = 0.0, None
-        if own_hi > 0:
-            own = float(rng.uniform(own_lo, own_hi))
-            own_cutoff = min(_loguniform(rng, 0.1, 1.0) / pu_samples, _OWN_MAX_CUTOFF)
-            if own > 0:
-                own_effect = PVVariation(own, own_cutoff, "record", order=2)
-
-        colour = _pick(rng, lopt["noise_colours"])
-        snr = float(rng.uniform(snr_lo, snr_hi))
-        # the SNR is relative to PV with its own variation, the noise's reference without it
-        snr_noise = snr + 10.0 * np.log10(1.0 - own)
-        # Choudhury's model re-sticks at every OP reversal, so noise inside the loop would
-        # freeze it (Kano et al. 2004); some controllers filter PV and give a smooth OP too
-        path = "record" if model == "choudhury" or rng.random() < 0.35 else "loop"
-        if colour == "white":
-            noise = WhiteNoise(snr_db=snr_noise, where=path)
-        elif colour == "ar1":
-            noise = ARNoise(float(rng.uniform(0.5, 0.95)), snr_db=snr_noise, where=path)
+            d["dist_size"].append(_loguniform(rng, 0.05, 0.3))
+        if kind == "sine":
+            d["dist_args"] = {"phase": rng.uniform(0, 2 * np.pi)}
+        elif kind == "narrowband":
+            d["dist_args"] = {"damping": _loguniform(rng, 0.01, 0.2)}
         else:
-            noise = BandLimitedNoise(_loguniform(rng, 0.03, 0.25), snr_db=snr_noise, where=path)
-        eff.append(noise)
-        if own_effect is not None:
-            eff.append(own_effect)
+            d["dist_args"] = {"lag": rng.uniform(0.0, 0.15), "phase": rng.uniform(0, 2 * np.pi),
+                              "jitter": rng.uniform(0.0, 0.2)}  # fmt: skip
 
-        # historian recording, applied after the warm-up is cut and PV units are set
-        pv_scale = _loguniform(rng, 0.05, 20.0)
-        pv_center = rng.uniform(20.0, 80.0)
-        sensor = [e for e in eff if e.kind == "recording"]
-        rec = list(sensor)
-        rec_names = []
-        if profile:
-            extra = list(profile.get("recording", []))
-            rec += extra
-            rec_names = [type(e).__name__ for e in extra]
-        elif realism is not None:
-            extra = list(
-                realism.recording_effects(rng, loop_type=loop_type)
-                if typed
-                else realism.recording_effects(rng)
-            )
-            rec += extra
-            rec_names = [type(e).__name__ for e in extra]
-        elif opt["recording"] and rng.random() < opt["recording_fraction"]:
-            n_rec = 1 if rng.random() < 0.7 or len(opt["recording"]) == 1 else 2
-            picks = rng.choice(len(opt["recording"]), n_rec, replace=False)
-            for i in sorted(picks):
-                name = opt["recording"][i]
-                rec += _recording_effect(name, rng)
-                rec_names.append(name)
-        length = n_samples
-        if rng.random() < opt["short_fraction"]:
-            length = int(_loguniform(rng, min(opt["min_length"], n_samples), n_samples))
-        initial_op = rng.uniform(15.0, 85.0)
+    regime = lopt.get("setpoint_regime")
+    if regime not in opt["setpoint_regimes"]:
+        weights = [lopt["setpoint_weights"].get(r, 0.0) for r in opt["setpoint_regimes"]]
+        regime = _pick(rng, opt["setpoint_regimes"], weights)
+    d["regime"] = regime
+    if regime in ("steps", "step"):
+        n_steps = int(rng.integers(1, 7)) if regime == "steps" else 1
+        lo_size, hi_size = (0.2, 2.0) if regime == "steps" else (1.0, 4.0)
+        d["sp_times"] = n_warm + np.sort(rng.uniform(0.05, 0.9, n_steps)) * n_samples
+        d["sp_sizes"] = np.exp(rng.uniform(np.log(lo_size), np.log(hi_size), n_steps))
+        d["sp_signs"] = rng.choice([-1.0, 1.0], n_steps)
+    elif regime == "cascade":
+        d["cascade"] = (_loguniform(rng, 0.5, 5.0), _loguniform(rng, 0.1, 1.0),
+                        rng.uniform(0.0, 0.5))  # fmt: skip
 
-        plants.append(plant)
-        controllers.append(ctrl)
-        valves.append(valve)
-        effects.append([e for e in eff if e.kind == "exogenous"])
-        records.append((rec, pv_scale, pv_center, length, initial_op))
-        rows.append(
-            {
-                "cause": cause,
-                "y": int(cause == "stiction"),
-                "plant": "integrating" if integrating else type(plant).__name__.lower(),
-                "plant_family": _family(order),
-                "loop_type": loop_type,
-                "order": plant.order,
-                "gain": plant.gain,
-                "action": "reverse" if plant.gain > 0 else "direct",
-                "time_constant": plant.time_constant,
-                "delay": plant.delay,
-                "apparent_time_constant": tau,
-                "apparent_delay": Lapp,
-                "lambda": lam,
-                "pv_per_valve": g,
-                "valve": getattr(valve, "name", "linear"),
-                "S": S,
-                "J": J,
-                "rule": rule,
-                "loop_kind": loop_kind,
-                "kc_factor": kc_factor,
-                "ti_factor": ti_factor,
-                "gain_factor": gain_factor,
-                "gain_margin": margin,
-                "Kc": ctrl.kc,
-                "Ti": ctrl.ti,
-                "ts": ts,
-                "samples_per_cycle": samples_per_cycle,
-                "samples_per_ultimate_period": pu_samples,
-                "snr_db": snr,
-                "noise_colour": colour,
-                "noise_path": path,
-                "drift": drift,
-                "disturbance": disturbance,
-                "setpoint_regime": regime,
-                "pv_own_share": own,
-                "oscillating": oscillating,
-                "recording": "+".join(rec_names) if rec_names else "none",
-                "record_length": length,
-                "initial_op": initial_op,
-                "pv_scale": pv_scale,
-                "pv_center": pv_center,
-                "warmup": n_warm,
-                "scenario": ("slips" if loop_kind != "standard" else "limit_cycle")
-                if cause == "stiction"
-                else "",
-                "effects": tuple(eff + rec[len(sensor) :]),  # described by make_loops
-            }
+    # PV's own variation, which OP does not explain, slower than the loop's bandwidth: at
+    # the sensor, so the controller does not act on it (seen by the controller, it is
+    # rejected and moves OP: PV and OP stay as tightly linked as without it)
+    own_lo, own_hi = lopt["pv_own_share"]
+    d["own"], d["own_cutoff"] = 0.0, None
+    if own_hi > 0:
+        d["own"] = float(rng.uniform(own_lo, own_hi))
+        d["own_cutoff"] = _loguniform(rng, 0.1, 1.0)  # times the ultimate frequency
+
+    colour = d["colour"] = _pick(rng, lopt["noise_colours"])
+    snr = d["snr"] = float(rng.uniform(snr_lo, snr_hi))
+    # the SNR is relative to PV with its own variation, the noise's reference without it
+    snr_noise = snr + 10.0 * np.log10(1.0 - d["own"])
+    # Choudhury's model re-sticks at every OP reversal, so noise inside the loop would
+    # freeze it (Kano et al. 2004); some controllers filter PV and give a smooth OP too
+    path = d["path"] = "record" if model == "choudhury" or rng.random() < 0.35 else "loop"
+    if colour == "white":
+        d["noise"] = WhiteNoise(snr_db=snr_noise, where=path)
+    elif colour == "ar1":
+        d["noise"] = ARNoise(float(rng.uniform(0.5, 0.95)), snr_db=snr_noise, where=path)
+    else:
+        d["noise"] = BandLimitedNoise(_loguniform(rng, 0.03, 0.25), snr_db=snr_noise,
+                                      where=path)  # fmt: skip
+
+    # historian recording, applied after the warm-up is cut and PV units are set
+    d["pv_scale"] = _loguniform(rng, 0.05, 20.0)
+    d["pv_center"] = rng.uniform(20.0, 80.0)
+    extra, rec_names = [], []
+    if profile:
+        extra = list(profile.get("recording", []))
+        rec_names = [type(e).__name__ for e in extra]
+    elif realism is not None:
+        extra = list(
+            realism.recording_effects(rng, loop_type=d["loop_type"])
+            if typed
+            else realism.recording_effects(rng)
         )
-    return plants, controllers, valves, effects, records, rows
+        rec_names = [type(e).__name__ for e in extra]
+    elif opt["recording"] and rng.random() < opt["recording_fraction"]:
+        n_rec = 1 if rng.random() < 0.7 or len(opt["recording"]) == 1 else 2
+        picks = rng.choice(len(opt["recording"]), n_rec, replace=False)
+        for i in sorted(picks):
+            name = opt["recording"][i]
+            extra += _recording_effect(name, rng)
+            rec_names.append(name)
+    d["recording"], d["rec_names"] = extra, rec_names
+    d["length"] = n_samples
+    if rng.random() < opt["short_fraction"]:
+        d["length"] = int(_loguniform(rng, min(opt["min_length"], n_samples), n_samples))
+    d["initial_op"] = rng.uniform(15.0, 85.0)
+    return d
+
+
+def _default_loop(d, n_samples, n_warm, ts):
+    """One default-world loop from its draws and its tuning: the simulator's objects, its
+    recording and its meta row."""
+    order, integrating, oscillating = d["order"], d["integrating"], d["oscillating"]
+    pu_samples, samples_per_cycle = d["pu_samples"], d["samples_per_cycle"]
+    cause, rule, gain_factor = d["cause"], d["rule"], d["gain_factor"]
+    scale = ts / d["ts_d"]
+    plant, lam = _plant_for(order, d["lam_target"], scale, d["sign"] * d["k_mag"])
+    ctrl = PIController(d["kc"] * gain_factor, d["ti"] * scale, rule=rule)
+    K, tau, Lapp = plant.foptd()
+    g = abs(K) if not integrating else abs(K) * (plant.delay + plant.time_constant)
+    nominal = 2.0 * g  # PV change of a 2 % valve move
+
+    eff = [d["load_step"]]
+    unit = 2.0 if d["load_where"] == "input" else nominal
+    cutoff = min(d["load_cutoff"] / pu_samples, 0.45)
+    eff.append(ColouredLoad(unit * d["load_size"], cutoff, d["load_order"], d["load_where"]))
+    if d["walk"] is not None:
+        eff.append(RandomWalkLoad(float(nominal * d["walk"])))
+    if d["drift"]:
+        unit = 2.0 if d["drift_where"] == "input" else nominal
+        eff.append(Drift(unit * d["drift_size"], d["drift_segments"], d["drift_where"]))
+    if cause == "external_disturbance":
+        where = d["dist_where"]
+        amp = (2.0 if where == "input" else nominal) * d["dist_size"][0]
+        for factor in d["dist_size"][1:]:
+            amp *= factor
+        dist_period = ts * samples_per_cycle
+        args = d["dist_args"]
+        if d["disturbance"] == "sine":
+            eff.append(SinusoidalDisturbance(amp, dist_period, args["phase"], where))
+        elif d["disturbance"] == "narrowband":
+            eff.append(NarrowbandDisturbance(amp, dist_period, args["damping"], where))
+        else:
+            eff.append(SquareDisturbance(
+                amp, dist_period, lag=dist_period * args["lag"], phase=args["phase"],
+                jitter=args["jitter"], where=where,
+            ))  # fmt: skip
+    if "sp_times" in d:
+        sizes = nominal * d["sp_sizes"]
+        sizes *= d["sp_signs"]
+        eff.append(SetpointSteps((ts * np.round(d["sp_times"])).tolist(), sizes.tolist()))
+    elif "cascade" in d:
+        tau_factor, size, jitter = d["cascade"]
+        phi = float(np.exp(-1.0 / (pu_samples * tau_factor)))
+        eff.append(CascadeSetpoint(nominal * size, phi, jitter))
+    eff.append(d["noise"])
+    own = d["own"]
+    if own > 0:
+        own_cutoff = min(d["own_cutoff"] / pu_samples, _OWN_MAX_CUTOFF)
+        eff.append(PVVariation(own, own_cutoff, "record", order=2))
+
+    sensor = [e for e in eff if e.kind == "recording"]
+    rec = sensor + d["recording"]
+    valve = d["valve"]
+    record = (rec, d["pv_scale"], d["pv_center"], d["length"], d["initial_op"])
+    row = {
+        "cause": cause,
+        "y": int(cause == "stiction"),
+        "plant": "integrating" if integrating else type(plant).__name__.lower(),
+        "plant_family": _family(order),
+        "loop_type": d["loop_type"],
+        "order": plant.order,
+        "gain": plant.gain,
+        "action": "reverse" if plant.gain > 0 else "direct",
+        "time_constant": plant.time_constant,
+        "delay": plant.delay,
+        "apparent_time_constant": tau,
+        "apparent_delay": Lapp,
+        "lambda": lam,
+        "pv_per_valve": g,
+        "valve": getattr(valve, "name", "linear"),
+        "S": d["S"],
+        "J": d["J"],
+        "rule": rule,
+        "loop_kind": d["loop_kind"],
+        "kc_factor": d["kc_factor"],
+        "ti_factor": d["ti_factor"],
+        "gain_factor": gain_factor,
+        "gain_margin": d["margin"],
+        "Kc": ctrl.kc,
+        "Ti": ctrl.ti,
+        "ts": ts,
+        "samples_per_cycle": samples_per_cycle,
+        "samples_per_ultimate_period": pu_samples,
+        "snr_db": d["snr"],
+        "noise_colour": d["colour"],
+        "noise_path": d["path"],
+        "drift": d["drift"],
+        "disturbance": d["disturbance"],
+        "setpoint_regime": d["regime"],
+        "pv_own_share": own,
+        "oscillating": oscillating,
+        "recording": "+".join(d["rec_names"]) if d["rec_names"] else "none",
+        "record_length": d["length"],
+        "initial_op": d["initial_op"],
+        "pv_scale": d["pv_scale"],
+        "pv_center": d["pv_center"],
+        "warmup": n_warm,
+        "scenario": ("slips" if d["loop_kind"] != "standard" else "limit_cycle")
+        if cause == "stiction"
+        else "",
+        "effects": tuple(eff + d["recording"]),  # described by make_loops if meta is asked for
+    }
+    return plant, ctrl, valve, [e for e in eff if e.kind == "exogenous"], record, row
 
 
 # a sticky valve must slip this often in the record, or the record holds no evidence of it
