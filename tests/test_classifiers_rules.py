@@ -57,6 +57,7 @@ def test_area_ratio_rule_on_known_ratios(known):
     np.testing.assert_allclose(report["area_ratio"][:4], r[:4], rtol=0.02)
     # the paper's default margin d = 0.5: R = 3 and R = 1.7 are sticky, 1 and 1/3 are not
     assert report["prediction"].tolist() == [1, 0, 1, 0, 0]
+    assert report["prediction"].dtype.kind == "i"  # labels, as predict gives them
     np.testing.assert_allclose(report["score"][:4], report["area_ratio"][:4] - 1.5)
     assert report["reason"].tolist() == ["ok"] * 4 + ["not_oscillating"]
     assert report["n_half_cycles"][:4].tolist() == [24.0] * 4  # 12 cycles, both halves
