@@ -146,12 +146,6 @@ def test_the_report_does_not_depend_on_the_chunks_or_the_input_type(loops, repor
     )
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="scan bug (REQUESTS.md): the shape library labels cycles by the loop's index in "
-    "the whole chunk, but is run on the subset of one loop type, so its answers land on "
-    "other loops of that subset",
-)
 def test_mixed_loop_types_in_one_chunk_keep_their_own_shapes(monkeypatch):
     monkeypatch.setattr(scan_module, "_applicability_gate", lambda: None)
     rng = np.random.default_rng(1)

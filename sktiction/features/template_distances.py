@@ -236,13 +236,15 @@ class TemplateDistances(LoopTransformer):
         for i, loop in enumerate(analyses):
             found = None if status[i] != "ok" else self._cycles_analysed(loop)
             if found is not None:
-                parts.append(self._loop_cycle_table(loop, found, lead))
+                parts.append(self._loop_cycle_table(i, loop, found, lead))
         if not parts:
             return pd.DataFrame()
         return pd.concat(parts, ignore_index=True)
 
-    def _loop_cycle_table(self, loop, found, lead):
-        """The cycle-table columns of one loop, one array per column."""
+    def _loop_cycle_table(self, position, loop, found, lead):
+        """The cycle-table columns of one loop, one array per column; ``loop`` column:
+        the loop's ``position`` in the analyses given (a scan passes a subset of a chunk's
+        analyses, whose ``loop.i`` count in the whole chunk)."""
         ana, bounds, _ = found[lead]
         a, b = bounds[:, 0], bounds[:, 2]
         n_cyc = len(bounds)
@@ -261,7 +263,7 @@ class TemplateDistances(LoopTransformer):
         first = np.floor(a).astype(np.int64)
         top, bottom = range_extrema(ana.centred, first, np.ceil(b).astype(np.int64) + 1)
         cols = {
-            "loop": np.full(n_cyc, loop.i),
+            "loop": np.full(n_cyc, position),
             "cycle": np.arange(n_cyc),
             "start": a,
             "end": b,
