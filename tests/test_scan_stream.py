@@ -1,0 +1,185 @@
+"""scan_files on a small site of short files: the report of scan_loops on the same loops, one
+row per loop in file order, gaps bridged, and a row with the reason for every file or loop
+that cannot be read. A stand-in model (probability a known function of PV) keeps it fast.
+"""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sktiction._validation import repair_gaps
+from sktiction.datasets import read_loop_file
+from sktiction.reports import _stream, scan_files, scan_loops
+from sktiction.reports import scan as scan_module
+from sktiction.reports.scan import REPORT_COLUMNS
+
+GAP_COLUMNS = ["n_bridged", "n_gaps_split", "kept_start", "kept_stop"]
+
+
+def square(a, n, period=100):
+    """A sticking valve in a flow loop: PV a square wave of amplitude ``a``, OP its integral."""
+    k = np.arange(n)
+    pv = 10 + a * np.clip(8 * np.sin(2 * np.pi * k / period), -1, 1)
+    return pv, 50 - 0.05 * np.cumsum(pv - 10)
+
+
+class Spread:
+    """Stand-in learned model: stiction probability PV peak-to-peak p over p + 2."""
+
+    def predict_proba(self, X):
+        ptp = np.nanmax(X[:, :, 0], axis=1) - np.nanmin(X[:, :, 0], axis=1)
+        return np.column_stack([2 / (ptp + 2), ptp / (ptp + 2)])
+
+
+def _csv(path, columns):
+    pd.DataFrame(columns).to_csv(path, index=False)
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("site")
+    pv, op = square(3.0, 1200)
+    _csv(folder / "FIC001.csv", {"t": np.arange(1200), "PV": pv, "OP": op, "SP": 10.0})
+    pv, op = square(1.0, 1000)  # shorter: padded in the chunk
+    _csv(folder / "FIC002.csv", {"t": np.arange(1000), "PV": pv, "OP": op})
+    pv, op = square(2.0, 1200)
+    pv[400:402] = op[400:402] = np.nan  # two samples missing: bridged, or a nan_gap
+    _csv(folder / "FIC003.csv", {"t": np.arange(1200), "PV": pv, "OP": op})
+    pv, op = square(0.5, 1100)
+    _csv(folder / "LIC004.csv", {"t": np.arange(1100), "LIC4.PV": pv, "LIC4.OP": op,
+                                 "TIC5.PV": "Bad", "TIC5.OP": op})  # fmt: skip
+    pv, op = square(2.5, 900)
+    _csv(folder / "PIC005.csv", {"PV": pv, "OP": op})  # no time column: needs ts
+    (folder / "broken.csv").write_text("t,FOO,BAR\n0,1,2\n1,2,3\n")  # no PV column
+    (folder / "notes.doc").write_text("not a loop file")
+    return folder
+
+
+FILES = ["FIC001.csv", "FIC002.csv", "FIC003.csv", "LIC004.csv", "LIC004.csv", "PIC005.csv",
+         "broken.csv", "notes.doc"]  # fmt: skip
+
+
+@pytest.fixture(autouse=True)
+def no_gate(monkeypatch):
+    # the applicability gate is scan_loops' (tested there); here the stream is under test
+    monkeypatch.setattr(scan_module, "_applicability_gate", lambda: None)
+    monkeypatch.setattr(_stream, "_applicability_gate", lambda: None)
+
+
+def test_the_stream_gives_scan_loops_report_in_file_order(site):
+    report = scan_files(site, classifier=Spread(), chunk_size=2, ts=1.0, max_gap=None)
+    assert report["file"].tolist() == FILES
+    assert report["tag"].tolist()[3:5] == ["LIC4", "TIC5"]  # the readable loop first
+    assert report["status"].tolist() == ["ok", "ok", "nan_gap", "ok", "unreadable", "ok",
+                                         "unreadable", "unreadable"]  # fmt: skip
+    assert report["verdict"].tolist() == [
+        "stiction",
+        "stiction",
+        "no_verdict",
+        "no_stiction",
+        "no_verdict",
+        "stiction",
+        "no_verdict",
+        "no_verdict",
+    ]
+    bad = report["status"].eq("unreadable")
+    assert report.loc[bad, "input_status"].tolist() == ["error", "error", "unsupported"]
+    assert report.loc[bad, "reason"].tolist() == report.loc[bad, "input_reason"].tolist()
+    assert "PV column 'TIC5.PV' holds no numbers" in report.loc[4, "reason"]
+    assert report.loc[bad, ["stiction_probability", "area_ratio", "n_cycles"]].isna().all().all()
+    assert not set(GAP_COLUMNS) & set(report.columns)  # no repair asked for
+    # the readable loops, read one by one, padded and scanned in memory
+    datas = [read_loop_file(site / f, ts=1.0) for f in FILES[:4] + FILES[5:6]]
+    X = np.full((6, 1200, 3), np.nan)
+    k = 0
+    for d in datas:
+        X[k : k + len(d.X), : d.X.shape[1]] = d.X
+        k += len(d.X)
+    meta = pd.concat([d.meta for d in datas], ignore_index=True)
+    keep = [0, 1, 2, 3, 5]  # without TIC5
+    expected = scan_loops(X[keep], meta.iloc[keep], classifier=Spread())
+    got = report.loc[~bad, expected.columns].reset_index(drop=True)
+    pd.testing.assert_frame_equal(got, expected, check_dtype=False)
+    assert got["loop_type"].tolist() == ["flow", "flow", "flow", "level", "pressure"]
+
+
+def test_short_gaps_are_bridged_and_the_chunking_changes_nothing(site):
+    one = scan_files(site, classifier=Spread(), chunk_size=1, ts=1.0)
+    assert one["status"].tolist()[:4] == ["ok"] * 4
+    gaps = one[GAP_COLUMNS]
+    assert gaps.iloc[2].tolist() == [1, 0, 0, 1200]  # FIC003: one gap bridged, all kept
+    assert gaps.iloc[[0, 1, 3, 5]]["n_bridged"].eq(0).all()
+    assert gaps.iloc[[0, 1, 3, 5]]["kept_stop"].tolist() == [1200, 1000, 1100, 900]
+    assert gaps.iloc[[4, 6, 7]].isna().all().all()  # unreadable: nothing to repair
+    data = read_loop_file(site / "FIC003.csv", ts=1.0)
+    repaired, _ = repair_gaps(data.X)
+    alone = scan_loops(repaired, data.meta, classifier=Spread())
+    pd.testing.assert_frame_equal(
+        one.loc[[2], alone.columns].reset_index(drop=True), alone, check_dtype=False
+    )
+    for chunk_size in (3, 100):
+        pd.testing.assert_frame_equal(
+            scan_files(site, classifier=Spread(), chunk_size=chunk_size, ts=1.0), one
+        )
+
+
+def test_files_that_need_arguments_say_so(site, tmp_path):
+    report = scan_files(site, classifier=Spread(), max_gap=None)
+    row = report.iloc[5]
+    assert row["file"] == "PIC005.csv" and row["status"] == "unreadable"
+    assert "cannot determine the sampling time" in row["reason"]
+    _csv(tmp_path / "unit.csv", {"t": np.arange(1200), "FLOW": square(3.0, 1200)[0],
+                                 "VALVE": square(3.0, 1200)[1]})  # fmt: skip
+    assert "no PV column" in scan_files(tmp_path, classifier=Spread()).loc[0, "reason"]
+    named = scan_files(tmp_path, classifier=Spread(), channels={"pv": "FLOW", "op": "VALVE"})
+    assert named.loc[0, ["status", "verdict"]].tolist() == ["ok", "stiction"]
+
+
+def test_a_file_the_reader_chokes_on_gets_an_error_row(site, monkeypatch):
+    real = _stream.read_loop_file
+
+    def choking(path, **kwargs):
+        if path.endswith("FIC002.csv"):
+            raise RuntimeError("disk on fire")
+        return real(path, **kwargs)
+
+    monkeypatch.setattr(_stream, "read_loop_file", choking)
+    report = scan_files(site, classifier=Spread(), chunk_size=4, ts=1.0)
+    row = report.iloc[1]
+    assert (row["file"], row["input_status"], row["status"], row["verdict"]) == (
+        "FIC002.csv", "error", "unreadable", "no_verdict"
+    )  # fmt: skip
+    assert row["reason"] == "RuntimeError: disk on fire"
+    assert report["file"].tolist() == FILES
+    assert report["status"].tolist()[:4] == ["ok", "unreadable", "ok", "ok"]
+
+
+def test_bad_arguments_and_empty_folders(tmp_path):
+    with pytest.raises(ValueError, match="chunk_size must be an integer >= 1"):
+        scan_files(tmp_path, classifier=Spread(), chunk_size=0)
+    with pytest.raises(ValueError, match="paths holds no files"):
+        scan_files([], classifier=Spread())
+    report = scan_files(tmp_path, classifier=Spread())
+    assert report[["status", "verdict"]].values.tolist() == [["unreadable", "no_verdict"]]
+    assert "folder holds no readable loop file" in report.loc[0, "reason"]
+
+
+def test_defaults_the_pretrained_model_and_shows_progress_per_file(site, monkeypatch, capsys):
+    monkeypatch.setattr(_stream, "pretrained_classifier", Spread)
+    files = [site / "FIC001.csv", site / "notes.doc"]
+    got = scan_files(files, progress=True)
+    assert "2/2" in capsys.readouterr().err
+    pd.testing.assert_frame_equal(got, scan_files(files, classifier=Spread()))
+    assert capsys.readouterr().err == ""
+    assert got.loc[0, "verdict"] == "stiction"
+
+
+def test_a_dask_cluster_reads_and_scans_the_files(site):
+    distributed = pytest.importorskip("distributed")
+    local = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:  # fmt: skip
+        remote = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0, client=client)
+    pd.testing.assert_frame_equal(remote, local)
+    assert list(local.columns[-len(REPORT_COLUMNS) :]) == REPORT_COLUMNS
