@@ -7,6 +7,7 @@ import numbers
 
 import numpy as np
 import pandas as pd
+from numba import njit
 
 from .._validation import CHANNELS, check_positive, check_random_state_seed
 from ..simulation import (
@@ -842,11 +843,9 @@ def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
                 row[k].setdefault("slip_snr", np.nan)
                 row[k]["stiction_visible"] = bool(row[k]["slip_snr"] >= _VISIBLE_SLIP_SNR)
             # a linear plant's PV can be relabelled exactly: other units, other level
-            scale = np.array([r[1] for r in rec[lo:hi]])[:, None]
-            center = np.array([r[2] for r in rec[lo:hi]])[:, None]
-            for c in (0, 2):
-                out[lo:hi, :, c] -= 50.0 - center
-                out[lo:hi, :, c] *= scale
+            scale = np.array([r[1] for r in rec[lo:hi]])
+            center = np.array([r[2] for r in rec[lo:hi]])
+            _relabel(out[lo:hi], 50.0 - center, scale)
 
         loops = _loop_arrays(
             plants, controllers, valves, np.full(len(todo), float(ts)),
@@ -862,6 +861,15 @@ def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
         if len(todo) == 0:
             break
     return _finish_default(X, records, ts, rng), records, rows
+
+
+@njit(cache=True)
+def _relabel(X, offset, scale):
+    """PV and SP of loop ``j`` to ``(x - offset[j]) * scale[j]``, in place, in one pass."""
+    for j in range(X.shape[0]):
+        for k in range(X.shape[1]):
+            X[j, k, 0] = (X[j, k, 0] - offset[j]) * scale[j]
+            X[j, k, 2] = (X[j, k, 2] - offset[j]) * scale[j]
 
 
 def _finish_default(X, records, ts, rng):
