@@ -113,8 +113,10 @@ def band_snr(cycle, rest, period, width=0.2):
 def make_signal(kind, rng, info=None):
     """One signal of class ``kind``: (x, truth, periods); truth 1 = oscillating.
 
-    For *drifting* signals ``info`` (a dict), when given, gets ``band_snr``: the
-    cycle's power over the drift's near the cycle's frequency (:func:`band_snr`)."""
+    ``info`` (a dict), when given, gets ``band_snr`` for *drifting* signals (the
+    cycle's power over the drift's near the cycle's frequency, :func:`band_snr`) and
+    ``zeta`` for *coloured_noise* (the damping ratio of its resonance; NaN for AR(1)
+    noise). Filling it draws no random numbers."""
     # records from a plant window (~750 samples) to a long export; at least 6 cycles
     n = int(np.exp(rng.uniform(np.log(600), np.log(3000))))
     top = min(150.0, n / 6)
@@ -180,8 +182,12 @@ def make_signal(kind, rng, info=None):
     if kind == "coloured_noise":
         if rng.random() < 0.5:
             x = _ar1(rng, n, rng.uniform(0.0, 0.98))
+            zeta = np.nan
         else:
-            x = _ar2(rng, n, rng.uniform(10, 150), rng.uniform(0.35, 0.7))
+            period, zeta = rng.uniform(10, 150), rng.uniform(0.35, 0.7)
+            x = _ar2(rng, n, period, zeta)
+        if info is not None:
+            info["zeta"] = zeta
         return x / x.std() + _noise(rng, n, rng.uniform(0.0, 0.5)), 0, []
     if kind == "random_walk":
         m = int(np.exp(rng.uniform(np.log(600), np.log(5000))))
@@ -247,29 +253,36 @@ def period_found(analysis, periods, tol=0.2):
 
 def run_simulated(n_per_class, seed=0):
     """Per class: rate of oscillating calls, over all records and over records shorter
-    than 1,000 samples (a plant window), and the share with every true period found."""
-    rows = []
-    times = []
-    snr = []  # drifting records: (cycle-to-drift power near the cycle, found)
+    than 1,000 samples (a plant window), the share with every true period found, and
+    Thornhill's r of the cycles :func:`analyze_cycles` finds (the issue's r); also the
+    drifting records' cycle-to-drift power (:func:`band_snr`), the coloured-noise
+    records' damping ratio, every record's index, and the CPU time per 5,000 samples."""
+    rows, times, extra = [], [], {"band_snr": [], "zeta": [], "index": {}}
     for kind in OSCILLATING + QUIET:
         rng = np.random.default_rng([seed, STREAM[kind]])
-        hits, short, periods_ok = [], [], 0
+        hits, short, periods_ok, regularity, index = [], [], 0, [], []
         for _ in range(n_per_class):
             info = {}
             x, truth, periods = make_signal(kind, rng, info)
-            t0 = time.perf_counter()
+            t0 = time.process_time()  # CPU time: the load of a shared machine does not count
             a = analyze_cycles(x)
-            times.append((time.perf_counter() - t0) / x.size * 5000)
+            times.append((time.process_time() - t0) / x.size * 5000)
             hits.append(bool(a.oscillating))
+            index.append(a.oscillation_index)
+            regularity.append(a.regularity if len(a.cycles) else np.nan)
             if x.size < 1000:
                 short.append(bool(a.oscillating))
             if truth:
                 periods_ok += bool(a.oscillating) and period_found(a, periods)
-            if "band_snr" in info:
-                snr.append((info["band_snr"], bool(a.oscillating)))
+            for key in ("band_snr", "zeta"):
+                if key in info:
+                    extra[key].append((info[key], bool(a.oscillating)))
+        extra["index"][kind] = np.array(index)
         rows.append((kind, truth, np.mean(hits), np.mean(short) if short else np.nan,
-                     len(short), periods_ok / n_per_class))
-    return rows, float(np.median(times)), np.array(snr).reshape(-1, 2)
+                     len(short), periods_ok / n_per_class, np.array(regularity)))
+    extra["band_snr"] = np.array(extra["band_snr"]).reshape(-1, 2)
+    extra["zeta"] = np.array(extra["zeta"]).reshape(-1, 2)
+    return rows, float(np.median(times)), extra
 
 
 def print_snr(snr, edges=(0, 2, 4, 10, np.inf)):
@@ -282,18 +295,49 @@ def print_snr(snr, edges=(0, 2, 4, 10, np.inf)):
             cells.append(f"{lo:g}-{hi:g}: {snr[sel, 1].mean():.2f} ({sel.sum()})")
     print("drifting, recall by cycle-to-drift power within 20 % of the cycle's frequency: "
           + "; ".join(cells))
+    seen = snr[:, 0] >= 4
+    print(f"drifting, cycle at least 4 times the drift's power near its frequency: recall "
+          f"{snr[seen, 1].mean():.2f} ({seen.sum()} of {len(snr)})")
+
+
+def print_zeta(zeta):
+    """False alarms on coloured noise: AR(1) noise, and AR(2) resonances by damping."""
+    ar1 = np.isnan(zeta[:, 0])
+    cells = [f"AR(1) {zeta[ar1, 1].mean():.2f} ({ar1.sum()})"]
+    for lo, hi in ((0.35, 0.45), (0.45, 0.55), (0.55, 0.7)):
+        sel = (zeta[:, 0] >= lo) & (zeta[:, 0] < hi)
+        if sel.any():
+            cells.append(f"AR(2) damping {lo:g}-{hi:g} {zeta[sel, 1].mean():.2f} "
+                         f"({sel.sum()})")
+    print("coloured_noise, false alarms: " + "; ".join(cells))
+
+
+def print_tradeoff(index, thresholds=(0.2, 0.3, 0.5, 0.7)):
+    """Recall of very irregular cycles and the worst false alarms (coloured noise) at
+    other thresholds on the index: the balance ``analyze_cycles(x, threshold=...)``
+    moves."""
+    cells = []
+    for t in thresholds:
+        worst = max(np.mean(index[k] > t) for k in QUIET)
+        cells.append(f"{t:g}: {np.mean(index['very_irregular'] > t):.2f} / {worst:.2f}")
+    print("threshold on the index: very_irregular recall / worst false alarms: "
+          + "; ".join(cells))
 
 
 def print_table(rows, n_per_class):
     print("| class | truth | signals | called oscillating | of which < 1,000 samples |"
-          " period(s) found within 20 % |")
-    print("|---|---|---|---|---|---|")
-    for kind, truth, rate, short, n_short, per in rows:
+          " period(s) found within 20 % | r of the cycles found, median (10-90 %) |")
+    print("|---|---|---|---|---|---|---|")
+    for kind, truth, rate, short, n_short, per, regularity in rows:
         label = "oscillating" if truth else "not oscillating"
         what = "recall" if truth else "false alarms"
         pcol = f"{per:.2f}" if truth else ""
         scol = f"{short:.2f} ({n_short})" if n_short else "-"
-        print(f"| {kind} | {label} | {n_per_class} | {what} {rate:.2f} | {scol} | {pcol} |")
+        r = regularity[np.isfinite(regularity)]
+        rcol = "-" if r.size == 0 else "{:.2f} ({:.2f}-{:.2f})".format(
+            *np.percentile(r, [50, 10, 90]))
+        print(f"| {kind} | {label} | {n_per_class} | {what} {rate:.2f} | {scol} | {pcol} |"
+              f" {rcol} |")
 
 
 # ------------------------------------------------------------ other method families
@@ -551,15 +595,17 @@ def main():
     if args.compare:
         run_comparison(args.n, args.seed)
         return
-    rows, per5000, snr = run_simulated(args.n, args.seed)
+    rows, per5000, extra = run_simulated(args.n, args.seed)
     print_table(rows, args.n)
     print()
-    print_snr(snr)
+    print_snr(extra["band_snr"])
+    print_zeta(extra["zeta"])
+    print_tradeoff(extra["index"])
     worst_recall = min(r[2] for r in rows if r[1])
     worst_fa = max(r[2] for r in rows if not r[1])
     print(f"\nworst recall {worst_recall:.2f} (goal >= 0.95); "
           f"worst false-alarm rate {worst_fa:.2f} (goal <= 0.05)")
-    print(f"analyze_cycles per 5,000 samples, median: {1e3 * per5000:.2f} ms")
+    print(f"analyze_cycles per 5,000 samples, median CPU time: {1e3 * per5000:.2f} ms")
     if args.measured:
         run_measured(args.figures)
 

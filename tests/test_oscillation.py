@@ -10,7 +10,13 @@ from sklearn.utils.estimator_checks import parametrize_with_checks
 from sktiction import OscillationFeatures
 from sktiction.cycles import analyze_cycles, detect_oscillations
 
-BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_oscillation.py"
+# the nearest benchmarks/ above this file (mutation testing runs a copy of tests/ one
+# level further down)
+BENCH = next(
+    p / "benchmarks" / "bench_oscillation.py"
+    for p in Path(__file__).resolve().parents
+    if (p / "benchmarks" / "bench_oscillation.py").exists()
+)
 
 
 def _bench():
@@ -163,7 +169,9 @@ def test_cycle_acf_sees_through_drift_and_not_through_noise():
     drifting = cycle + 10 * walk / np.ptp(walk) + rng.normal(0, 0.1, t.size)
     main = max(detect_oscillations(drifting), key=lambda c: c.cycle_acf)
     assert main.period == pytest.approx(75, rel=0.05)
-    assert main.cycle_acf > 0.7  # the moving mean over one period took the walk away
+    # the moving mean over one period took the walk away: the clean cycle's is 1.0,
+    # and the walk's own wiggles at the cycle's period take less than 0.2 of it
+    assert main.cycle_acf > 0.8
     bench = _bench()
     noise = [bench._ar2(np.random.default_rng(s), 1500, 60, 0.5) for s in range(20)]
     acfs = [max((c.cycle_acf for c in detect_oscillations(x)), default=0.0) for x in noise]
@@ -225,3 +233,69 @@ def test_bad_signals_parameter_is_refused():
 )
 def test_sklearn_compatible(estimator, check):
     check(estimator)
+
+
+def test_relay_record_of_booleans_is_read_as_zero_and_one():
+    # an on/off valve logged as True/False: a square wave of range exactly 1
+    t = np.arange(2000)
+    components = detect_oscillations(np.sin(2 * np.pi * t / 64) > 0)
+    assert components[0].period == pytest.approx(64, rel=0.01)
+    assert components[0].index > 0.99
+
+
+def test_defaults_are_those_analyze_cycles_uses():
+    # on noise no time-domain cycle confirms a component, so both report the same
+    from scipy.signal import lfilter
+
+    for seed in range(3):
+        x = lfilter([1.0], [1.0, -0.8], np.random.default_rng(seed).normal(size=3000))
+        found = [(c.period, c.index, c.coherence) for c in detect_oscillations(x)]
+        assert found == [(c.period, c.index, c.coherence) for c in analyze_cycles(x).components]
+        assert len(found) == 3
+
+
+def test_harmonics_are_dropped_by_detect_oscillations_too():
+    t = np.arange(3000)
+    found = [
+        c.period for c in detect_oscillations(np.sign(np.sin(2 * np.pi * t / 90))) if c.index > 0.5
+    ]
+    assert found == pytest.approx([90], rel=0.02)
+
+
+def test_cycle_acf_of_a_noisy_sinusoid_is_its_share_of_the_kept_power():
+    # white noise keeps (1 - H)**2 of its power up to the 5th harmonic (H the moving
+    # average's response) and has no correlation at one period, so the cycle ACF is
+    # 0.5 / (0.5 + sigma**2 * 2 * integral of (1 - H)**2 up to 5 / P)
+    from sktiction.cycles._oscillation import _moving_mean_response
+
+    period, n = 100, 40000
+    rng = np.random.default_rng(0)
+    x = np.sin(2 * np.pi * np.arange(n) / period) + rng.normal(size=n)
+    f = np.linspace(1e-7, 5 / period, 100001)
+    kept = 2 * np.trapezoid((1 - _moving_mean_response(f, period)) ** 2, f)
+    main = detect_oscillations(x)[0]
+    assert main.period == pytest.approx(period, rel=0.01)
+    assert main.cycle_acf == pytest.approx(0.5 / (0.5 + kept), abs=0.02)
+
+
+def test_cycle_acf_of_few_cycles_and_of_random_walks():
+    # 3.6 clean cycles repeat exactly (unbiased ACF: about 1); a random walk's moving
+    # mean over any period takes its slow part, and the rest has short memory
+    short = detect_oscillations(np.sin(2 * np.pi * np.arange(360) / 100))[0]
+    assert short.period == pytest.approx(100, rel=0.02) and short.cycle_acf > 0.9
+    walks = [np.cumsum(np.random.default_rng(s).normal(size=1500)) for s in range(20)]
+    acfs = [max((c.cycle_acf for c in detect_oscillations(w)), default=0.0) for w in walks]
+    assert np.median(acfs) < 0.35
+
+
+def test_features_of_two_oscillations_and_of_an_on_off_signal():
+    # OP: two sinusoids; PV: an on/off signal of range exactly 1 (0 or 1)
+    t = np.arange(4000)
+    op = np.sin(2 * np.pi * t / 23) + 0.8 * np.sin(2 * np.pi * t / 140)
+    pv = (np.sin(2 * np.pi * t / 70) > 0).astype(float)
+    X = np.stack([pv, op], axis=1)[None]
+    f = OscillationFeatures().set_output(transform="pandas").fit(X).transform(X).iloc[0]
+    assert f["op_n_components"] == 2
+    assert sorted([f["op_period"], f["op_period_2"]]) == pytest.approx([23, 140], rel=0.03)
+    assert f["pv_oscillating"] == 1 and f["pv_period"] == pytest.approx(70, rel=0.02)
+    assert np.isnan(f["pv_period_2"])
