@@ -211,8 +211,9 @@ def make_signal(kind, rng, info=None):
         return x, 0, []
     if kind == "drift":
         t = np.arange(n)
-        slow = rng.uniform(1, 4) * np.sin(2 * np.pi * t / rng.uniform(1.2 * n, 4 * n)
-                                          + rng.uniform(0, 6))
+        slow = rng.uniform(1, 4) * np.sin(
+            2 * np.pi * t / rng.uniform(1.2 * n, 4 * n) + rng.uniform(0, 6)
+        )
         x = slow + np.linspace(0, rng.uniform(-5, 5), n)
         return x + _noise(rng, n, rng.uniform(0.05, 0.5)), 0, []
     raise ValueError(f"unknown kind {kind!r}")
@@ -278,8 +279,17 @@ def run_simulated(n_per_class, seed=0):
                 if key in info:
                     extra[key].append((info[key], bool(a.oscillating)))
         extra["index"][kind] = np.array(index)
-        rows.append((kind, truth, np.mean(hits), np.mean(short) if short else np.nan,
-                     len(short), periods_ok / n_per_class, np.array(regularity)))
+        rows.append(
+            (
+                kind,
+                truth,
+                np.mean(hits),
+                np.mean(short) if short else np.nan,
+                len(short),
+                periods_ok / n_per_class,
+                np.array(regularity),
+            )
+        )
     extra["band_snr"] = np.array(extra["band_snr"]).reshape(-1, 2)
     extra["zeta"] = np.array(extra["zeta"]).reshape(-1, 2)
     return rows, float(np.median(times)), extra
@@ -293,11 +303,15 @@ def print_snr(snr, edges=(0, 2, 4, 10, np.inf)):
         sel = (snr[:, 0] >= lo) & (snr[:, 0] < hi)
         if sel.any():
             cells.append(f"{lo:g}-{hi:g}: {snr[sel, 1].mean():.2f} ({sel.sum()})")
-    print("drifting, recall by cycle-to-drift power within 20 % of the cycle's frequency: "
-          + "; ".join(cells))
+    print(
+        "drifting, recall by cycle-to-drift power within 20 % of the cycle's frequency: "
+        + "; ".join(cells)
+    )
     seen = snr[:, 0] >= 4
-    print(f"drifting, cycle at least 4 times the drift's power near its frequency: recall "
-          f"{snr[seen, 1].mean():.2f} ({seen.sum()} of {len(snr)})")
+    print(
+        f"drifting, cycle at least 4 times the drift's power near its frequency: recall "
+        f"{snr[seen, 1].mean():.2f} ({seen.sum()} of {len(snr)})"
+    )
 
 
 def print_zeta(zeta):
@@ -307,8 +321,7 @@ def print_zeta(zeta):
     for lo, hi in ((0.35, 0.45), (0.45, 0.55), (0.55, 0.7)):
         sel = (zeta[:, 0] >= lo) & (zeta[:, 0] < hi)
         if sel.any():
-            cells.append(f"AR(2) damping {lo:g}-{hi:g} {zeta[sel, 1].mean():.2f} "
-                         f"({sel.sum()})")
+            cells.append(f"AR(2) damping {lo:g}-{hi:g} {zeta[sel, 1].mean():.2f} ({sel.sum()})")
     print("coloured_noise, false alarms: " + "; ".join(cells))
 
 
@@ -320,13 +333,16 @@ def print_tradeoff(index, thresholds=(0.2, 0.3, 0.5, 0.7)):
     for t in thresholds:
         worst = max(np.mean(index[k] > t) for k in QUIET)
         cells.append(f"{t:g}: {np.mean(index['very_irregular'] > t):.2f} / {worst:.2f}")
-    print("threshold on the index: very_irregular recall / worst false alarms: "
-          + "; ".join(cells))
+    print(
+        "threshold on the index: very_irregular recall / worst false alarms: " + "; ".join(cells)
+    )
 
 
 def print_table(rows, n_per_class):
-    print("| class | truth | signals | called oscillating | of which < 1,000 samples |"
-          " period(s) found within 20 % | r of the cycles found, median (10-90 %) |")
+    print(
+        "| class | truth | signals | called oscillating | of which < 1,000 samples |"
+        " period(s) found within 20 % | r of the cycles found, median (10-90 %) |"
+    )
     print("|---|---|---|---|---|---|---|")
     for kind, truth, rate, short, n_short, per, regularity in rows:
         label = "oscillating" if truth else "not oscillating"
@@ -334,10 +350,14 @@ def print_table(rows, n_per_class):
         pcol = f"{per:.2f}" if truth else ""
         scol = f"{short:.2f} ({n_short})" if n_short else "-"
         r = regularity[np.isfinite(regularity)]
-        rcol = "-" if r.size == 0 else "{:.2f} ({:.2f}-{:.2f})".format(
-            *np.percentile(r, [50, 10, 90]))
-        print(f"| {kind} | {label} | {n_per_class} | {what} {rate:.2f} | {scol} | {pcol} |"
-              f" {rcol} |")
+        rcol = (
+            "-"
+            if r.size == 0
+            else "{:.2f} ({:.2f}-{:.2f})".format(*np.percentile(r, [50, 10, 90]))
+        )
+        print(
+            f"| {kind} | {label} | {n_per_class} | {what} {rate:.2f} | {scol} | {pcol} | {rcol} |"
+        )
 
 
 # ------------------------------------------------------------ other method families
@@ -421,8 +441,9 @@ def emd_detector(x, min_share=0.1):
     ``min_share`` of the IMFs' power (oscillating when r > 1)."""
     imfs, _ = emd(np.asarray(x, dtype=float))
     power = np.array([np.sum(h**2) for h in imfs])
-    return max((_regularity(h) for h, p in zip(imfs, power) if p >= min_share * power.sum()),
-               default=0.0)
+    return max(
+        (_regularity(h) for h, p in zip(imfs, power) if p >= min_share * power.sum()), default=0.0
+    )
 
 
 def wavelet_detector(x, min_share=0.1, voices=4):
@@ -448,8 +469,13 @@ def wavelet_detector(x, min_share=0.1, voices=4):
         coeffs.append(c)
         power.append(np.mean(c**2))
     power = np.array(power)
-    peaks = [i for i in range(1, power.size - 1) if power[i] >= power[i - 1]
-             and power[i] > power[i + 1] and power[i] >= min_share * power.max()]
+    peaks = [
+        i
+        for i in range(1, power.size - 1)
+        if power[i] >= power[i - 1]
+        and power[i] > power[i + 1]
+        and power[i] >= min_share * power.max()
+    ]
     return max((_regularity(coeffs[i]) for i in peaks), default=0.0)
 
 
@@ -485,8 +511,14 @@ def run_comparison(n_per_class, seed=0, fa_goal=0.05):
     columns = []
     for name, (_, published) in DETECTORS.items():
         quiet = np.concatenate(stats[name][k:])
-        matched = min((t for t in np.unique(quiet) if t >= published and all(
-            np.mean(v > t) <= fa_goal for v in stats[name][k:])), default=np.inf)
+        matched = min(
+            (
+                t
+                for t in np.unique(quiet)
+                if t >= published and all(np.mean(v > t) <= fa_goal for v in stats[name][k:])
+            ),
+            default=np.inf,
+        )
         if all(np.mean(v > published) <= fa_goal for v in stats[name][k:]):
             matched = published
         columns.append((name, published, matched))
@@ -507,9 +539,11 @@ def run_comparison(n_per_class, seed=0, fa_goal=0.05):
         print(f"| {kind} | {what} | " + " | ".join(cells) + " |")
     worst, cost = [], []
     for name, published, matched in columns:
-        for t in ([published] if matched == published else [published, matched]):
-            worst.append(f"{min(np.mean(v > t) for v in stats[name][:k]):.2f} / "
-                         f"{max(np.mean(v > t) for v in stats[name][k:]):.2f}")
+        for t in [published] if matched == published else [published, matched]:
+            worst.append(
+                f"{min(np.mean(v > t) for v in stats[name][:k]):.2f} / "
+                f"{max(np.mean(v > t) for v in stats[name][k:]):.2f}"
+            )
             cost.append(f"{1e3 * np.median(times[name]):.1f}")
     print("| worst recall / worst false alarms | | " + " | ".join(worst) + " |")
     print("| median ms per 5,000 samples | | " + " | ".join(cost) + " |")
@@ -537,18 +571,34 @@ def run_measured(figures=None):
         op, pv = X[i, :n, 1], X[i, :n, 0]
         a_op, d_op = _describe(op)
         a_pv, d_pv = _describe(pv)
-        rows.append((meta["dataset"].iloc[i], str(meta["file"].iloc[i]), str(groups[i]),
-                     meta["label"].iloc[i], n, a_op, d_op, a_pv, d_pv))
-    print("\n| dataset | # | tag | label | samples | OP index, periods | PV index, periods |"
-          " OP oscillating |")
+        rows.append(
+            (
+                meta["dataset"].iloc[i],
+                str(meta["file"].iloc[i]),
+                str(groups[i]),
+                meta["label"].iloc[i],
+                n,
+                a_op,
+                d_op,
+                a_pv,
+                d_pv,
+            )
+        )
+    print(
+        "\n| dataset | # | tag | label | samples | OP index, periods | PV index, periods |"
+        " OP oscillating |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for k, (ds, _f, tag, label, n, a_op, d_op, _a_pv, d_pv) in enumerate(rows):
-        print(f"| {ds} | {k} | {tag} | {label} | {n} | {d_op} | {d_pv} | "
-              f"{int(a_op.oscillating)} |")
+        print(
+            f"| {ds} | {k} | {tag} | {label} | {n} | {d_op} | {d_pv} | {int(a_op.oscillating)} |"
+        )
     for ds in ("isdb", "plant"):
         sel = [r for r in rows if r[0] == ds]
-        print(f"{ds}: OP oscillating in {sum(r[5].oscillating for r in sel)} of {len(sel)} "
-              f"loops; PV in {sum(r[7].oscillating for r in sel)}")
+        print(
+            f"{ds}: OP oscillating in {sum(r[5].oscillating for r in sel)} of {len(sel)} "
+            f"loops; PV in {sum(r[7].oscillating for r in sel)}"
+        )
     if figures:
         _figures(rows, X, Path(figures))
 
@@ -589,8 +639,11 @@ def main():
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--measured", action="store_true")
     parser.add_argument("--figures", default=None)
-    parser.add_argument("--compare", action="store_true",
-                        help="compare with other method families (EMD, wavelets, plain ACF)")
+    parser.add_argument(
+        "--compare",
+        action="store_true",
+        help="compare with other method families (EMD, wavelets, plain ACF)",
+    )
     args = parser.parse_args()
     if args.compare:
         run_comparison(args.n, args.seed)
@@ -603,8 +656,10 @@ def main():
     print_tradeoff(extra["index"])
     worst_recall = min(r[2] for r in rows if r[1])
     worst_fa = max(r[2] for r in rows if not r[1])
-    print(f"\nworst recall {worst_recall:.2f} (goal >= 0.95); "
-          f"worst false-alarm rate {worst_fa:.2f} (goal <= 0.05)")
+    print(
+        f"\nworst recall {worst_recall:.2f} (goal >= 0.95); "
+        f"worst false-alarm rate {worst_fa:.2f} (goal <= 0.05)"
+    )
     print(f"analyze_cycles per 5,000 samples, median CPU time: {1e3 * per5000:.2f} ms")
     if args.measured:
         run_measured(args.figures)

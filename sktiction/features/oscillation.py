@@ -101,8 +101,10 @@ class OscillationFeatures(LoopTransformer):
 
     def _validate_params(self):
         signals = tuple(self.signals)
-        if not signals or any(s not in SIGNALS for s in signals) or len(set(signals)) < len(
-            signals
+        if (
+            not signals
+            or any(s not in SIGNALS for s in signals)
+            or len(set(signals)) < len(signals)
         ):
             raise ValueError(f"signals must be a non-empty subset of {SIGNALS}; got {signals!r}.")
 
