@@ -345,3 +345,66 @@ def test_slip_visibility_follows_the_noise(world):
     assert quiet["stiction_visible"].mean() > 0.9
     assert noisy["stiction_visible"].mean() < quiet["stiction_visible"].mean()
     assert quiet["slip_snr"].median() > 10 * noisy["slip_snr"].median()
+
+
+# ---------------------------------------------------------------- batched pieces vs plain ones
+
+
+def _phase_crossover_one(plant, kc, ti, ts, n_grid):
+    """The phase crossover of one loop, computed plainly (the batched code's reference)."""
+    A, B, C = plant.state_space()
+    scale = plant.delay + max(plant.time_constant, 1e-3) + ts
+    w = np.geomspace(1e-3, 1e3, n_grid) / scale
+    rhs = np.broadcast_to(B[:, None], (len(w), len(B), 1))
+    x = np.linalg.solve(1j * w[:, None, None] * np.eye(A.shape[0]) - A, rhs)
+    G = (x[:, :, 0] @ C) * np.sign(plant.gain)
+    loop = kc * (1 + 1 / (1j * w * ti)) * G * np.exp(-1j * w * (plant.delay + ts / 2))
+    phase = np.unwrap(np.angle(loop))
+    above = phase > -np.pi
+    idx = np.nonzero(above[:-1] & ~above[1:])[0]
+    if len(idx) == 0:
+        return np.nan, np.inf
+    i = idx[0]
+    f = (-np.pi - phase[i]) / (phase[i + 1] - phase[i])
+    mag = np.exp(np.log(abs(loop[i])) * (1 - f) + np.log(abs(loop[i + 1])) * f)
+    return w[i] * (w[i + 1] / w[i]) ** f, 1.0 / mag
+
+
+def test_batched_phase_crossovers_equal_one_loop_at_a_time():
+    """Mixed plant orders (batches by number of states), sample times and a loop without
+    a crossover (no delay, no lag: PI phase never reaches -180 degrees) give each loop's
+    own numbers to the bit."""
+    from sktiction.datasets._generators import _phase_crossovers, _plant_for, _settings
+    from sktiction.simulation import FOPTD, PIController
+
+    rng = np.random.default_rng(0)
+    plants, kc, ti = [], [], []
+    for order in [1, 2, 3, 4, "integrating"] * 4:
+        plant, _ = _plant_for(order, rng.uniform(0.05, 1.5), rng.uniform(0.5, 5), -1.0)
+        k, t = _settings(plant, "amigo", 0.0)
+        plants.append(plant)
+        kc.append(k * rng.uniform(0.5, 2.0))
+        ti.append(t)
+    plants.append(FOPTD(1.0, 1e-6, 0.0))
+    kc.append(1.0)
+    ti.append(PIController.from_plant(FOPTD(1.0, 1.0, 0.1)).ti)
+    ts = rng.uniform(0.0, 0.5, len(plants))
+    ts[-1] = 0.0  # no hold delay either
+    w180, margin = _phase_crossovers(plants, kc, ti, ts, 240)
+    one = [_phase_crossover_one(*args, 240) for args in zip(plants, kc, ti, ts, strict=True)]
+    assert np.array_equal(w180, [o[0] for o in one], equal_nan=True)
+    assert np.array_equal(margin, [o[1] for o in one])
+    assert np.isnan(w180[-1]) and np.isfinite(w180[:-1]).all()
+
+
+def test_relabel_equals_numpys_in_place_steps():
+    from sktiction.datasets._generators import _relabel
+
+    X = np.random.default_rng(0).normal(50.0, 5.0, (3, 100, 3))
+    offset, scale = np.array([1.5, -30.0, 0.1]), np.array([0.05, 3.0, 17.0])
+    expected = X.copy()
+    for c in (0, 2):
+        expected[:, :, c] -= offset[:, None]
+        expected[:, :, c] *= scale[:, None]
+    _relabel(X, offset, scale)
+    assert np.array_equal(X, expected)
