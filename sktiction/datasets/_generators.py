@@ -807,7 +807,10 @@ def _slip_snr(pv, valve, length, pv_per_valve, snr_db):
     if not starts.any():
         return 0.0
     jump = float(np.median(step[starts]))
-    noise_sd = float(np.nanstd(pv[:length])) / np.sqrt(1.0 + 10.0 ** (snr_db / 10.0))
+    pv = pv[:length]
+    # np.std is np.nanstd's value without NaN, at a fraction of its cost
+    sd = np.std(pv) if np.isfinite(pv).all() else np.nanstd(pv)
+    noise_sd = float(sd) / np.sqrt(1.0 + 10.0 ** (snr_db / 10.0))
     return jump * pv_per_valve / noise_sd if noise_sd > 0 else np.inf
 
 
