@@ -342,6 +342,10 @@ def test_smoothing_is_as_wide_as_the_noise_needs():
     # none on a clean signal
     a = analyze_cycles(np.abs((t % 100) / 50 - 1))
     assert noise_std(a.centred) == 0 and np.array_equal(a.smooth, a.centred)
+    # none without a period: a random walk whose ACF never comes back above zero
+    walk = np.cumsum(np.random.default_rng(2).normal(size=1000))
+    assert np.isnan(dominant_period(walk)[0]) and not analyze_cycles(walk).oscillating
+    assert np.array_equal(analyze_cycles(walk).smooth, analyze_cycles(walk).centred)
 
 
 @pytest.mark.parametrize("scale", [1e-13, 1e-6, 1e6])
@@ -358,7 +362,7 @@ def test_scale_and_offset_change_nothing(scale):
         assert np.allclose(b.centred, scale * a.centred)
 
 
-@pytest.mark.parametrize("n, period", [(300, 160), (307, 60), (300, 120), (2000, 100)])
+@pytest.mark.parametrize("n, period", [(300, 160), (307, 60), (300, 120), (2000, 100), (300, 3)])
 def test_mean_removal_uses_the_acf_period(n, period):
     # the dominant period read up to half the record (at 160 of 300, the last lag 150)
     t = np.arange(n)
@@ -414,3 +418,14 @@ def test_records_too_short_for_an_acf():
         a = analyze_cycles(x)
         assert a.acf_strength == 0.0 and not a.oscillating and a.components == []
     assert analyze_cycles(np.full(100, 3.0)).components == []
+    # a straight line is all trend: nothing left to correlate
+    assert analyze_cycles(np.arange(100.0)).acf_strength == 0.0
+
+
+def test_a_regular_cycle_between_two_odd_ones_is_no_stretch():
+    # four cycles of 100, one of 100 between two of 250, two of 30, four of 100 again
+    x = square([25] + [50] * 8 + [125, 125, 50, 50, 125, 125] + [15] * 4 + [50] * 8)
+    a = analyze_cycles(x)
+    assert np.allclose(np.diff(a.crossings), [50] * 8 + [125, 125, 50, 50, 125, 125] + [15] * 4
+                       + [50] * 7, atol=1)  # fmt: skip
+    assert a.cycles[:, 0].tolist() == [0, 2, 4, 6, 18, 20, 22]  # not the lone one at 10
