@@ -60,6 +60,7 @@ def test_paired_dtw_known_answers():
                               paired_dtw(A, B, sakoe_chiba_radius=2))  # fmt: skip
     assert paired_dtw([[0, 1, 2, 1]], [[0, 0, 1, 2]]).tolist() == [1.0]
     assert paired_dtw(np.empty((0, 4)), np.empty((0, 4))).shape == (0,)
+    assert paired_dtw(np.empty((3, 0)), np.empty((3, 0))).shape == (3,)  # one per pair
 
 
 def test_tslearn_reference_takes_the_band():
