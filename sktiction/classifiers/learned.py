@@ -129,6 +129,13 @@ def make_loop_features(n_jobs=None):
     )
 
 
+def _fitted_loop_features():
+    """:func:`make_loop_features`, fitted. Its transformers learn nothing from data, but
+    fitting checks the channels: a neutral loop with all three, not a chunk's first loop,
+    which may lack OP and would fail the whole chunk instead of getting its own reason."""
+    return make_loop_features().fit(np.zeros((1, 30, 3)))
+
+
 def _robust_spread(x):
     """Interquartile range per row, falling back to the standard deviation, then 1."""
     q1, q3 = np.nanpercentile(x, [25, 75], axis=1)
@@ -432,11 +439,11 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
 
     def _raw_features(self, loops):
         """Feature matrix of normalised loops plus the domain statistics, in chunks."""
-        union = make_loop_features()
+        union = _fitted_loop_features()
 
         def chunk(part):
             with threadpool_limits(limits=1):  # tiny least-squares fits: see _ONE_THREAD
-                feats = union.fit(part[:1]).transform(part)
+                feats = union.transform(part)
                 return np.hstack([feats, domain_statistics(part)])
 
         n_jobs = self.n_jobs if self.n_jobs is not None else 1
@@ -446,7 +453,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             rows = [chunk(p) for p in parts]
         else:
             rows = Parallel(n_jobs=n_jobs)(delayed(chunk)(p) for p in parts)
-        names = list(union.fit(loops[:1]).get_feature_names_out()) + list(DOMAIN_STATISTICS)
+        names = list(union.get_feature_names_out()) + list(DOMAIN_STATISTICS)
         return pd.DataFrame(np.vstack(rows), columns=names)
 
     @staticmethod
@@ -682,7 +689,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         check_is_fitted(self, "model_")
         if status is None:
             status = loop_status(loops, require_op=True)
-        union = make_loop_features().fit(loops[:1])
+        union = _fitted_loop_features()
         with threadpool_limits(limits=1):  # tiny least-squares fits: see _ONE_THREAD
             parts = [
                 est.transform_analysed(loops, analyses, status if est._needs_op else None)
