@@ -504,3 +504,16 @@ def test_span_and_lowpass_coefficients_equal_numpys_to_the_bit():
     for a in rng.uniform(0.0, 1.0, 50):
         for order in (1, 2, 3, 4):
             assert np.array_equal(_lag_power(a, order), np.poly(np.full(order, a)))
+
+
+def test_trailing_mean_equals_the_cumsum_formula_to_the_bit():
+    from sktiction.simulation.historian import _trailing_mean
+
+    rng = np.random.default_rng(0)
+    for n, m in [(0, 2), (1, 3), (7, 10), (500, 2), (3000, 7)]:
+        x = rng.standard_normal(n) * 40.0 + 300.0
+        x[n - n // 10 :] = np.nan  # the padding stays NaN
+        c0 = np.concatenate([[0.0], np.cumsum(x)])
+        k = np.arange(1, n + 1)
+        lo = np.maximum(k - m, 0)
+        assert np.array_equal(_trailing_mean(x, m), (c0[k] - c0[lo]) / (k - lo), equal_nan=True)

@@ -67,10 +67,10 @@ def _span(x):
     i = np.floor(v)
     t = v - i
     i = i.astype(np.intp)
-    part = np.partition(x, np.unique(np.concatenate([i, i + 1])))
+    x.partition(np.unique(np.concatenate([i, i + 1])))  # x is a copy already
     lo, hi = (
         a + d * g if g < 0.5 else b - d * (1 - g)
-        for a, b, g in zip(part[i], part[i + 1], t, strict=True)
+        for a, b, g in zip(x[i], x[i + 1], t, strict=True)
         for d in [b - a]
     )
     return float(hi - lo)
@@ -271,13 +271,26 @@ class IntervalAveraging(_Recording):
         out = dict(signals)
         m = self.window
         for c in self._present(signals):
-            x = np.asarray(signals[c], dtype=float)
             # the first samples average what exists so far (no start-up artefact)
-            c0 = np.concatenate([[0.0], np.cumsum(x)])
-            k = np.arange(1, len(x) + 1)
-            lo = np.maximum(k - m, 0)
-            out[c] = (c0[k] - c0[lo]) / (k - lo)
+            out[c] = _trailing_mean(np.asarray(signals[c], dtype=float), m)
         return out
+
+
+@njit(cache=True)
+def _trailing_mean(x, m):
+    """Mean of the last ``m`` samples (fewer at the start), from running sums as
+    ``np.cumsum`` makes them, so the result is the same to the last bit."""
+    n = len(x)
+    c0 = np.zeros(n + 1)
+    if n:
+        c0[1] = x[0]
+    for k in range(1, n):
+        c0[k + 1] = c0[k] + x[k]
+    out = np.empty(n)
+    for k in range(1, n + 1):
+        lo = max(k - m, 0)
+        out[k - 1] = (c0[k] - c0[lo]) / (k - lo)
+    return out
 
 
 class SpanQuantization(_Recording):
