@@ -517,3 +517,24 @@ def test_trailing_mean_equals_the_cumsum_formula_to_the_bit():
         k = np.arange(1, n + 1)
         lo = np.maximum(k - m, 0)
         assert np.array_equal(_trailing_mean(x, m), (c0[k] - c0[lo]) / (k - lo), equal_nan=True)
+
+
+def test_batched_discretisation_equals_each_plants_own():
+    """``_discretize_all`` (one ``expm`` call per number of states) gives every plant's own
+    ``discretize`` to the bit: whole and fractional delays, no delay, a pure integrator."""
+    from sktiction.simulation.loop import _discretize_all
+
+    plants = [
+        FOPTD(1.0, 10.0, 2.0), FOPTD(-2.0, 3.0, 2.3), SOPTD(1.5, 4.0, 0.0),
+        SOPTD(1.0, 2.0, 1.7, time_constant2=0.5), NthOrderLag(0.7, 2.0, 3.1, order=4),
+        IntegratingPlant(0.1, 2.5, 3.0), IntegratingPlant(0.2, 1.0), NthOrderLag(1.0, 1.0, 0.4, 3),
+    ]  # fmt: skip
+    ts = np.array([1.0, 0.7, 0.5, 0.3, 1.0, 0.8, 0.6, 0.25])
+    A, B0, B1, C, nxs, delay = _discretize_all(plants, ts)
+    for j, (plant, t) in enumerate(zip(plants, ts, strict=True)):
+        Ad, b0, b1, c, m = plant.discretize(t)
+        n = len(b0)
+        assert nxs[j] == n and delay[j] == m
+        assert np.array_equal(A[j, :n, :n], Ad) and np.array_equal(B0[j, :n], b0)
+        assert np.array_equal(B1[j, :n], b1) and np.array_equal(C[j, :n], c)
+        assert not A[j, n:].any() and not B0[j, n:].any()

@@ -14,14 +14,18 @@ there), so with no disturbance nothing moves until the setpoint or a load does.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
+from scipy.linalg import expm
 from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, check_positive, check_random_state_seed
 from ._threads import single_blas_thread
 from .controllers import PIController
 from .effects import EXOGENOUS_KEYS, Effect
+from .plants import _Plant
 from .valves import N_PARAMS, STATE_SIZE, _Valve, valve_step
 
 __all__ = ["simulate_loop", "simulate_loops"]
@@ -154,7 +158,35 @@ def _per_loop_effects(effects, n_loops):
 
 
 def _discretize_all(plants, ts):
-    mats = [p.discretize(t) for p, t in zip(plants, ts, strict=True)]
+    """Every plant's ``discretize(t)`` in the kernel's padded arrays.
+
+    The library's plants share one discretisation; theirs is done here for all plants of
+    one number of states at once: scipy's ``expm`` treats each matrix of a stack as it
+    treats a matrix alone, so the numbers are the same.
+    """
+    mats = [None] * len(plants)
+    groups = {}
+    for j, (p, t) in enumerate(zip(plants, ts, strict=True)):
+        if type(p).discretize is not _Plant.discretize:
+            mats[j] = p.discretize(t)
+            continue
+        t = float(t)
+        A, B, C = p.state_space()
+        m = int(math.floor(p.delay / t + 1e-12))
+        theta = max(p.delay - m * t, 0.0)
+        groups.setdefault(A.shape[0], []).append((j, A, B, C, m, theta, t))
+    for n, items in groups.items():
+        E0 = _phi_gammas(n, [(A, B, t - theta) for _, A, B, _, _, theta, t in items])
+        late = [k for k, item in enumerate(items) if item[5] > 0]
+        E1 = _phi_gammas(n, [(items[k][1], items[k][2], items[k][5]) for k in late])
+        E1 = dict(zip(late, E1, strict=True))
+        for k, (j, _, _, C, m, _, _) in enumerate(items):
+            Phi0, B0 = E0[k][:n, :n], E0[k][:n, n]
+            if k in E1:
+                Phi1, g1 = E1[k][:n, :n], E1[k][:n, n]
+                mats[j] = (Phi0 @ Phi1, B0, Phi0 @ g1, C, m)
+            else:
+                mats[j] = (Phi0, B0, np.zeros_like(B0), C, m)
     nx = max(m[0].shape[0] for m in mats)
     n_loops = len(plants)
     A = np.zeros((n_loops, nx, nx))
@@ -172,6 +204,16 @@ def _discretize_all(plants, ts):
         C[j, :n] = c
         delay[j] = m
     return A, B0, B1, C, nxs, delay
+
+
+def _phi_gammas(n, systems):
+    """``expm`` of ``[[A t, B t], [0, 0]]`` for systems ``(A, B, t)`` of ``n`` states, in one
+    call (``_phi_gamma`` of each: ``e^{A t}`` top left, ``int_0^t e^{A s} ds B`` right)."""
+    M = np.zeros((len(systems), n + 1, n + 1))
+    for k, (A, B, t) in enumerate(systems):
+        M[k, :n, :n] = A * t
+        M[k, :n, n] = B * t
+    return expm(M) if len(systems) else M
 
 
 def _loop_arrays(plants, controllers, valves, ts, op0):
