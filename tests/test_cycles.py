@@ -429,3 +429,19 @@ def test_a_regular_cycle_between_two_odd_ones_is_no_stretch():
     assert np.allclose(np.diff(a.crossings), [50] * 8 + [125, 125, 50, 50, 125, 125] + [15] * 4
                        + [50] * 7, atol=1)  # fmt: skip
     assert a.cycles[:, 0].tolist() == [0, 2, 4, 6, 18, 20, 22]  # not the lone one at 10
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="analyze_cycles adds the cycles' evidence to a component in place and does not "
+    "re-sort: CycleAnalysis.components and .periods are documented strongest first "
+    "(requested in /tmp/coord/REQUESTS.md)",
+)
+def test_components_stay_strongest_first_after_the_cycles_evidence():
+    t = np.arange(1000)
+    noise = 0.6 * np.random.default_rng(178).normal(size=t.size)
+    x = 0.6 * np.sin(2 * np.pi * t / 37) + 0.9 * np.sign(np.sin(2 * np.pi * t / 236)) + noise
+    a = analyze_cycles(x)
+    index = [c.index for c in a.components]
+    assert index == sorted(index, reverse=True)
+    assert a.periods[0] == pytest.approx(236, rel=0.05)  # the stronger, after the evidence
