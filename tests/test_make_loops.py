@@ -408,3 +408,13 @@ def test_relabel_equals_numpys_in_place_steps():
         expected[:, :, c] *= scale[:, None]
     _relabel(X, offset, scale)
     assert np.array_equal(X, expected)
+
+
+def test_signs_draw_like_rng_choice():
+    from sktiction.datasets._generators import _signs
+
+    for seed in range(50):
+        a, b = np.random.default_rng(seed), np.random.default_rng(seed)
+        assert _signs(a) == b.choice([-1.0, 1.0])
+        assert np.array_equal(_signs(a, 5), b.choice([-1.0, 1.0], 5))
+        assert a.random() == b.random()

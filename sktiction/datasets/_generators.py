@@ -254,19 +254,19 @@ def _classic_effect_draws(
         if d["scenario"] == "slips":
             n_steps = int(rng.integers(1, 5))
             d["sp_times"] = np.sort(rng.uniform(0.05, 0.8, n_steps) * n_samples * ts).round(6)
-            d["sp_draws"] = (rng.uniform(0.5, 2.0, n_steps), rng.choice([-1.0, 1.0], n_steps))
+            d["sp_draws"] = (rng.uniform(0.5, 2.0, n_steps), _signs(rng, n_steps))
         else:
-            d["sp_draws"] = (rng.uniform(0.3, 1.0), rng.choice([-1.0, 1.0]))
+            d["sp_draws"] = (rng.uniform(0.3, 1.0), _signs(rng))
             d["sp_times"] = [ts * rng.integers(5, 20)]
     elif cause == "aggressive_tuning":
-        d["sp_draws"] = (rng.uniform(0.5, 2.0), rng.choice([-1.0, 1.0]))
+        d["sp_draws"] = (rng.uniform(0.5, 2.0), _signs(rng))
         d["sp_times"] = [ts * rng.integers(5, 20)]
     elif cause == "external_disturbance":
         d["sine"] = (rng.uniform(0.5, 2.0), float(rng.uniform(0, 2 * np.pi)))
     elif rng.random() < 0.5:
         n_steps = int(rng.integers(1, 4))
         d["sp_times"] = np.sort(rng.uniform(0, n_samples * ts, n_steps)).round(6)
-        d["sp_draws"] = (rng.uniform(0.5, 2.0, n_steps), rng.choice([-1.0, 1.0], n_steps))
+        d["sp_draws"] = (rng.uniform(0.5, 2.0, n_steps), _signs(rng, n_steps))
     d["snr"] = snr = float(rng.uniform(snr_lo, snr_hi))
     # Choudhury's model re-sticks at every OP reversal, so noise inside the loop
     # would freeze it (Kano et al. 2004): its loops get noise on the record only
@@ -395,7 +395,20 @@ _GRID = 240
 
 
 def _loguniform(rng, lo, hi):
-    return float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+    return float(np.exp(rng.uniform(_log(lo), _log(hi))))
+
+
+@functools.lru_cache(maxsize=1024)
+def _log(x):
+    return np.log(x)
+
+
+_SIGNS = np.array([-1.0, 1.0])
+
+
+def _signs(rng, size=None):
+    """``rng.choice([-1.0, 1.0], size)``: the same draws and values, without its overhead."""
+    return _SIGNS[rng.integers(0, 2, size=size)]
 
 
 def _family(order):
@@ -553,7 +566,7 @@ def _default_draws(cause, n_samples, n_warm, ts, opt, rng, profiles, typed):
 
     # a feed change at the start of the warm-up moves every loop off its initial
     # rest, so a sticky valve is cycling or slipping by the time the record starts
-    d["load_step"] = LoadStep(_loguniform(rng, 0.5, 5.0) * rng.choice([-1.0, 1.0]))
+    d["load_step"] = LoadStep(_loguniform(rng, 0.5, 5.0) * _signs(rng))
     # process noise near the loop's bandwidth and a slow random walk, every loop
     d["load_where"] = "input" if rng.random() < 0.5 else "output"
     d["load_cutoff"] = _loguniform(rng, 0.3, 3.0)  # times the ultimate frequency
@@ -608,7 +621,7 @@ def _default_draws(cause, n_samples, n_warm, ts, opt, rng, profiles, typed):
         lo_size, hi_size = (0.2, 2.0) if regime == "steps" else (1.0, 4.0)
         d["sp_times"] = n_warm + np.sort(rng.uniform(0.05, 0.9, n_steps)) * n_samples
         d["sp_sizes"] = np.exp(rng.uniform(np.log(lo_size), np.log(hi_size), n_steps))
-        d["sp_signs"] = rng.choice([-1.0, 1.0], n_steps)
+        d["sp_signs"] = _signs(rng, n_steps)
     elif regime == "cascade":
         d["cascade"] = (_loguniform(rng, 0.5, 5.0), _loguniform(rng, 0.1, 1.0),
                         rng.uniform(0.0, 0.5))  # fmt: skip
