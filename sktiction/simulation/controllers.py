@@ -22,6 +22,7 @@ Integrating plants ``Kv e^{-Ls} / s`` (:func:`tune_pi_integrating`): AMIGO
 
 from __future__ import annotations
 
+import functools
 import math
 
 from .._validation import check_positive
@@ -76,13 +77,19 @@ def foptd_approximation(order, time_constant=1.0, delay=0.0):
     L = check_positive(delay, "delay", strict=False)
     if order == 1:
         return L, T
+    h = _apparent_delay(order) * T
+    return h + L, order * T - h
+
+
+@functools.lru_cache(maxsize=64)
+def _apparent_delay(order):
+    """Apparent delay of ``n >= 2`` equal unit lags (``foptd_approximation`` over ``T``)."""
     k = order - 1
     # Step response of n equal lags is the Erlang CDF; work in log space so large n is safe.
     log_pdf = k * math.log(k) - k - math.lgamma(k + 1)
     slope = math.exp(log_pdf)  # dy/d(t/T) at the inflection point t = k T
     y = 1.0 - sum(math.exp(i * math.log(k) - k - math.lgamma(i + 1)) for i in range(order))
-    h = (k - y / slope) * T
-    return h + L, order * T - h
+    return k - y / slope
 
 
 def tune_pi(gain, time_constant, delay, rule="amigo"):
