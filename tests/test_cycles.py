@@ -432,12 +432,6 @@ def test_a_regular_cycle_between_two_odd_ones_is_no_stretch():
     assert a.cycles[:, 0].tolist() == [0, 2, 4, 6, 18, 20, 22]  # not the lone one at 10
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="analyze_cycles adds the cycles' evidence to a component in place and does not "
-    "re-sort: CycleAnalysis.components and .periods are documented strongest first "
-    "(requested in /tmp/coord/REQUESTS.md)",
-)
 def test_components_stay_strongest_first_after_the_cycles_evidence():
     t = np.arange(1000)
     noise = 0.6 * np.random.default_rng(178).normal(size=t.size)

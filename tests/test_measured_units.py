@@ -69,11 +69,6 @@ def test_strict_reading_names_the_row_where_time_goes_wrong(tmp_path):
     assert ok.loc[0, "status"] == "ok" and ok.loc[0, "ts"] == 1.0
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="_measured._strict_order quotes the values with !r of numpy scalars: "
-    "'(np.int64(2) then np.int64(2))' under numpy 2 (REQUESTS.md)",
-)
 def test_strict_errors_quote_the_times_as_written(tmp_path):
     dup = _write(tmp_path / "dup.csv", "t,PV,OP\n0,1,5\n1,2,6\n2,3,7\n2,4,8\n3,5,9\n")
     reason = read_loop_file(dup, strict=True).meta.loc[0, "reason"]

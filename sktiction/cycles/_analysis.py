@@ -301,5 +301,7 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
             else c
             for c in analysis.components
         ]
+        # the boost can lift a weaker component above another: keep strongest first
+        boosted.sort(key=lambda c: -c.index)
         _set_detection(analysis, boosted, threshold, min_acf)
     return analysis

@@ -410,10 +410,8 @@ def _strict_order(t, raw):
     if len(dt) and (dt <= 0).any():
         i = int(np.flatnonzero(dt <= 0)[0])
         what = "duplicated" if dt[i] == 0 else "not increasing (unsorted)"
-        raise FileError(
-            f"timestamps are {what} at data row {i + 2} ({raw.iloc[i]!r} then "
-            f"{raw.iloc[i + 1]!r})"
-        )
+        a, b = (repr(v) if isinstance(v, str) else str(v) for v in raw.iloc[i : i + 2])
+        raise FileError(f"timestamps are {what} at data row {i + 2} ({a} then {b})")
 
 
 def _meta_frame(rows):
