@@ -371,9 +371,9 @@ def _phase_crossover_one(plant, kc, ti, ts, n_grid):
 
 
 def test_batched_phase_crossovers_equal_one_loop_at_a_time():
-    """Mixed plant orders (batches by number of states), sample times and a loop without
-    a crossover (no delay, no lag: PI phase never reaches -180 degrees) give each loop's
-    own numbers to the bit."""
+    """Mixed plant orders (batches by number of states), sample times, a loop crossing
+    late and one without a crossover (no delay, no lag: PI phase never reaches -180
+    degrees) give each loop's own numbers to the bit."""
     from sktiction.datasets._generators import _phase_crossovers, _plant_for, _settings
     from sktiction.simulation import FOPTD, PIController
 
@@ -385,16 +385,19 @@ def test_batched_phase_crossovers_equal_one_loop_at_a_time():
         plants.append(plant)
         kc.append(k * rng.uniform(0.5, 2.0))
         ti.append(t)
-    plants.append(FOPTD(1.0, 1e-6, 0.0))
-    kc.append(1.0)
-    ti.append(PIController.from_plant(FOPTD(1.0, 1.0, 0.1)).ti)
+    # crossing in the grid's last quarter (searched only when the rest has none) and none
+    plants += [FOPTD(1.0, 1.0, 0.01), FOPTD(1.0, 1e-6, 0.0)]
+    kc += [1.0, 1.0]
+    ti += [PIController.from_plant(FOPTD(1.0, 1.0, 0.1)).ti] * 2
     ts = rng.uniform(0.0, 0.5, len(plants))
-    ts[-1] = 0.0  # no hold delay either
+    ts[-2:] = 0.0  # no hold delay either
     w180, margin = _phase_crossovers(plants, kc, ti, ts, 240)
     one = [_phase_crossover_one(*args, 240) for args in zip(plants, kc, ti, ts, strict=True)]
     assert np.array_equal(w180, [o[0] for o in one], equal_nan=True)
     assert np.array_equal(margin, [o[1] for o in one])
     assert np.isnan(w180[-1]) and np.isfinite(w180[:-1]).all()
+    grid = np.geomspace(1e-3, 1e3, 240) / (0.01 + 1.0)
+    assert w180[-2] > grid[180]  # found in the last quarter
 
 
 def test_relabel_equals_numpys_in_place_steps():
