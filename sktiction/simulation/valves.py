@@ -313,7 +313,7 @@ def make_valve(model, **params):
     return VALVE_MODELS[model](**params)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sign(v):
     if v > 0:
         return 1.0
@@ -322,7 +322,9 @@ def _sign(v):
     return 0.0
 
 
-@njit(cache=True)
+# inlined into the closed-loop kernel: called once per sample, a call with array arguments
+# costs more than most valve models' arithmetic
+@njit(cache=True, inline="always")
 def valve_step(kind, par, st, u):
     """Advance one valve by one sample; ``st`` is updated in place, returns the position."""
     y = st[_Y]
