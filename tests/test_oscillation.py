@@ -299,3 +299,34 @@ def test_features_of_two_oscillations_and_of_an_on_off_signal():
     assert sorted([f["op_period"], f["op_period_2"]]) == pytest.approx([23, 140], rel=0.03)
     assert f["pv_oscillating"] == 1 and f["pv_period"] == pytest.approx(70, rel=0.02)
     assert np.isnan(f["pv_period_2"])
+
+
+def test_units_and_offset_do_not_change_the_components():
+    t = np.arange(3000)
+    x = np.sin(2 * np.pi * t / 40) + 0.5 * np.random.default_rng(2).normal(size=t.size)
+    for y in (1e-6 * x + 5e3, 1e4 * x):
+        for a, b in zip(detect_oscillations(x), detect_oscillations(y), strict=True):
+            assert (b.period, b.index, b.cycle_acf, b.coherence) == pytest.approx(
+                (a.period, a.index, a.cycle_acf, a.coherence), rel=1e-6
+            )
+
+
+def test_two_oscillations_a_factor_three_apart_are_two_components():
+    t = np.arange(3000)
+    x = np.sin(2 * np.pi * t / 25) + np.sin(2 * np.pi * t / 80)
+    x += 0.3 * np.random.default_rng(2).normal(size=t.size)
+    found = [c.period for c in detect_oscillations(x) if c.index > 0.5]
+    assert sorted(found) == pytest.approx([25, 80], rel=0.02)
+
+
+def test_held_samples_are_filled_by_straight_lines():
+    from sktiction.cycles._oscillation import _fill_repeats
+
+    ramp = np.arange(40.0)
+    held = np.repeat(ramp, 2)  # every value recorded twice: half the samples repeat
+    filled = _fill_repeats(held)
+    assert filled[:-1] == pytest.approx(np.arange(79) / 2)  # the last has no next change
+    few = np.r_[held[:6], 3 + np.arange(74.0)]  # 3 repeats among 79 steps (3.8 %)
+    assert _fill_repeats(few) is few  # left alone
+    few = np.r_[held[:8], 4 + np.arange(72.0)]  # 4 repeats (5.1 %): filled
+    assert _fill_repeats(few)[:8] == pytest.approx(np.arange(8) / 2)
