@@ -15,8 +15,13 @@ writes one figure per signal to ``--figures DIR``. With ``--compare`` it runs, o
 signals, reference implementations of other method families (whole-signal ACF, EMD and
 Morlet wavelets, each with Thornhill's regularity) instead.
 
+With ``--speed`` it times, in CPU seconds (so that the load of a shared machine does not
+count), all features of a 5,000-sample loop as ``benchmarks/bench_features.py`` defines
+them (issue 3's budget: 20 ms), and ``analyze_cycles`` on its PV and OP.
+
 Run: python benchmarks/bench_oscillation.py [--n 200] [--measured] [--figures DIR]
      python benchmarks/bench_oscillation.py --compare --n 100  (other method families)
+     NUMBA_NUM_THREADS=1 python benchmarks/bench_oscillation.py --speed
 """
 
 from __future__ import annotations
@@ -633,6 +638,56 @@ def _figures(rows, X, folder, per_page=12):
     print(f"figures in {folder}")
 
 
+def cpu_median(fn, repeats):
+    """Median CPU time (``time.process_time``) of ``repeats`` calls of ``fn``."""
+    times = []
+    for _ in range(repeats):
+        t0 = time.process_time()
+        fn()
+        times.append(time.process_time() - t0)
+    return float(np.median(times))
+
+
+def run_speed(n_loops=12, repeats=7):
+    """CPU time of all features (TemplateDistances + AreaRatio) of one 5,000-sample loop,
+    on the loops ``benchmarks/bench_features.py`` times, and of ``analyze_cycles`` on
+    the loop's PV and OP; each call on a fresh copy, so no cached analysis is reused."""
+    from sktiction import AreaRatio, TemplateDistances
+    from sktiction.datasets import make_loops
+
+    X, _ = make_loops(
+        n_loops,
+        n_samples=5000,
+        stiction_fraction=1.0,
+        orders=(1,),
+        period_range=(25, 125),
+        stiction_models=("relay",),
+        random_state=0,
+    )
+    td, ar = TemplateDistances().fit(X), AreaRatio().fit(X)
+    td.transform(X[:1])
+    ar.transform(X[:1])  # compile
+    features, cycles = [], []
+    for i in range(n_loops):
+        one = X[i : i + 1]
+        features.append(
+            cpu_median(
+                lambda one=one: (td.transform(one.copy()), ar.transform(one.copy())), repeats
+            )
+        )
+        cycles.append(
+            cpu_median(
+                lambda one=one: [analyze_cycles(one[0, :, c].copy()) for c in (0, 1)], repeats
+            )
+        )
+    print(
+        f"all features of a 5,000-sample loop, median CPU time over {n_loops} loops: "
+        f"{1e3 * np.median(features):.1f} ms (goal <= 20 ms; range "
+        f"{1e3 * np.min(features):.1f}-{1e3 * np.max(features):.1f})"
+    )
+    print(f"analyze_cycles on its PV and OP: {1e3 * np.median(cycles):.1f} ms")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=200, help="signals per class")
@@ -644,7 +699,11 @@ def main():
         action="store_true",
         help="compare with other method families (EMD, wavelets, plain ACF)",
     )
+    parser.add_argument("--speed", action="store_true", help="CPU time of all features")
     args = parser.parse_args()
+    if args.speed:
+        run_speed()
+        return
     if args.compare:
         run_comparison(args.n, args.seed)
         return
