@@ -13,9 +13,13 @@ import pytest
 from sktiction.datasets import make_loops
 from sktiction.simulation import (
     CascadeSetpoint,
+    ChoudhuryValve,
+    DeadbandValve,
     Drift,
     HeValve,
     HoldLastValue,
+    KanoValve,
+    LinearValve,
     LoadStep,
     NarrowbandDisturbance,
     RelayValve,
@@ -292,15 +296,26 @@ def test_he_valve_with_no_dynamic_friction_is_the_relay():
         HeValve(1.0, 2.0)
 
 
-@pytest.mark.parametrize("valve", [HeValve(2.0, 0.5), RelayValve(2.0)])
+@pytest.mark.parametrize(
+    "valve",
+    [
+        HeValve(2.0, 0.5),
+        RelayValve(2.0),
+        ChoudhuryValve(3.0, 1.0),
+        KanoValve(3.0, 1.0),
+        DeadbandValve(2.0),
+        LinearValve(),
+    ],  # fmt: skip
+)
 def test_closed_loop_valve_is_the_valve_model(valve):
     # the compiled loop must step the same valve model as the valve alone (a stale numba
-    # cache of the loop kernel once kept an older valve_step without the He model)
+    # cache of the loop kernel once kept an older valve_step without the He model; the
+    # kernel keeps the valve state in local variables, the valve alone in an array)
     from sktiction.simulation import FOPTD, PIController, SetpointSteps, simulate_loop
 
     plant = FOPTD(1.0, 10.0, 2.0)
     res = simulate_loop(plant, PIController.from_plant(plant), valve, 600, 1.0,
-                        effects=[SetpointSteps([5.0], [3.0])])  # fmt: skip
+                        effects=[SetpointSteps([5.0, 300.0], [3.0, -4.0])])  # fmt: skip
     np.testing.assert_array_equal(res.valve, valve.simulate(res.op, initial_position=50.0))
     assert np.ptp(res.valve) > 2.0
 

@@ -26,7 +26,18 @@ from ._threads import single_blas_thread
 from .controllers import PIController
 from .effects import EXOGENOUS_KEYS, Effect
 from .plants import _Plant
-from .valves import N_PARAMS, STATE_SIZE, _Valve, valve_step
+from .valves import (
+    _DIR,
+    _SPREV,
+    _STUCK,
+    _UPREV,
+    _USTICK,
+    _Y,
+    N_PARAMS,
+    STATE_SIZE,
+    _Valve,
+    _valve_update,
+)
 
 __all__ = ["simulate_loop", "simulate_loops"]
 
@@ -64,9 +75,16 @@ def _run_loops(
         nb = m + 2
         buf = np.zeros(nb)
         head = 0  # buf[head] receives w[k]; buf[(head + m) % nb] holds w[k-m]
-        st = vstate[j].copy()
+        # the valve's parameters and state in local variables (see _valve_update)
         kind = kinds[j]
-        par = vpar[j]
+        p0 = vpar[j, 0]
+        p1 = vpar[j, 1]
+        yv = vstate[j, _Y]
+        uprev = vstate[j, _UPREV]
+        sprev = vstate[j, _SPREV]
+        stuck = vstate[j, _STUCK]
+        direction = vstate[j, _DIR]
+        ustick = vstate[j, _USTICK]
         kp = kcs[j]
         ki = kcs[j] * ts[j] / ti[j]
         kd = kcs[j] * td[j] / ts[j]
@@ -92,7 +110,11 @@ def _run_loops(
                 u = hi
             elif u < lo:
                 u = lo
-            v = valve_step(kind, par, st, u)
+            yv, sprev, stuck, direction, ustick = _valve_update(
+                kind, p0, p1, yv, uprev, sprev, stuck, direction, ustick, u
+            )
+            uprev = u
+            v = yv
             if k >= start:
                 X[r, k - start, 0] = p
                 X[r, k - start, 1] = u

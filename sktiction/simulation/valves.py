@@ -322,73 +322,90 @@ def _sign(v):
     return 0.0
 
 
-# inlined into the closed-loop kernel: called once per sample, a call with array arguments
-# costs more than most valve models' arithmetic
 @njit(cache=True, inline="always")
-def valve_step(kind, par, st, u):
-    """Advance one valve by one sample; ``st`` is updated in place, returns the position."""
-    y = st[_Y]
+def _valve_update(kind, p0, p1, y, uprev, sprev, stuck, direction, ustick, u):
+    """One valve step on scalars: the parameters, the state ``[y, u_prev, du_sign_prev,
+    stuck, direction, u_stick]`` and the input; returns the new position, ``du_sign_prev``,
+    ``stuck``, ``direction`` and ``u_stick`` (``u_prev`` becomes ``u``).
+
+    The closed-loop kernel keeps the state in local variables: no array is passed per
+    sample (a call with array arguments costs more than most models' arithmetic).
+    """
     if kind == LINEAR:
         y = u
     elif kind == RELAY:
-        if abs(u - y) > par[0]:
+        if abs(u - y) > p0:
             y = u
     elif kind == DEADBAND:
-        half = 0.5 * par[0]
+        half = 0.5 * p0
         if u - y > half:
             y = u - half
         elif y - u > half:
             y = u + half
     elif kind == CHOUDHURY:
-        S = par[0]
-        J = par[1]
-        s = _sign(u - st[_UPREV])
-        if s != st[_SPREV]:
+        S = p0
+        J = p1
+        s = _sign(u - uprev)
+        if s != sprev:
             # velocity changed sign or vanished: the valve sticks here
-            st[_STUCK] = 1.0
-            st[_USTICK] = st[_UPREV]
-        if st[_STUCK] == 0.0:
+            stuck = 1.0
+            ustick = uprev
+        if stuck == 0.0:
             y = u - s * 0.5 * (S - J)
         elif s != 0.0:
-            thr = J if s == st[_DIR] else S
-            if abs(u - st[_USTICK]) > thr:
+            thr = J if s == direction else S
+            if abs(u - ustick) > thr:
                 y = u - s * 0.5 * (S - J)
-                st[_STUCK] = 0.0
-                st[_DIR] = s
-        st[_SPREV] = s
+                stuck = 0.0
+                direction = s
+        sprev = s
     elif kind == KANO:
-        S = par[0]
-        J = par[1]
-        du = u - st[_UPREV]
-        if du * st[_SPREV] <= 0.0 and st[_STUCK] == 0.0:
+        S = p0
+        J = p1
+        du = u - uprev
+        if du * sprev <= 0.0 and stuck == 0.0:
             # a moving valve stops or reverses: remember where
-            st[_USTICK] = st[_UPREV]
-            st[_STUCK] = 1.0
-        d = st[_DIR]
-        if st[_STUCK] == 0.0:
+            ustick = uprev
+            stuck = 1.0
+        d = direction
+        if stuck == 0.0:
             y = u - d * 0.5 * (S - J)
         elif d == 0.0:
-            if abs(u - st[_USTICK]) > S:
-                d = _sign(u - st[_USTICK])
+            if abs(u - ustick) > S:
+                d = _sign(u - ustick)
                 y = u - d * 0.5 * (S - J)
-                st[_STUCK] = 0.0
-        elif -d * (u - st[_USTICK]) > S:
+                stuck = 0.0
+        elif -d * (u - ustick) > S:
             d = -d
             y = u - d * 0.5 * (S - J)
-            st[_STUCK] = 0.0
-        elif d * (u - st[_USTICK]) > J:
+            stuck = 0.0
+        elif d * (u - ustick) > J:
             y = u - d * 0.5 * (S - J)
-            st[_STUCK] = 0.0
-        st[_DIR] = d
-        st[_SPREV] = du
+            stuck = 0.0
+        direction = d
+        sprev = du
     elif kind == HE:
         # the residual force u - y moves the valve once it beats static friction
         r = u - y
-        if abs(r) > par[0]:
-            y = u - _sign(r) * par[1]
+        if abs(r) > p0:
+            y = u - _sign(r) * p1
     y = min(max(y, 0.0), 100.0)
+    return y, sprev, stuck, direction, ustick
+
+
+@njit(cache=True)
+def valve_step(kind, par, st, u):
+    """Advance one valve by one sample; ``st`` is updated in place, returns the position."""
+    y, sprev, stuck, direction, ustick = _valve_update(
+        kind, par[0], par[1], st[_Y], st[_UPREV], st[_SPREV], st[_STUCK], st[_DIR],
+        st[_USTICK], u,
+    )  # fmt: skip
     st[_Y] = y
     st[_UPREV] = u
+    st[_SPREV] = sprev
+    st[_STUCK] = stuck
+    st[_DIR] = direction
+    st[_USTICK] = ustick
     return y
 
 
