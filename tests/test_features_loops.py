@@ -92,6 +92,15 @@ def test_transformer_gives_nan_rows_and_no_oscillation_for_bad_loops():
     got = _PVOnly().fit(X).transform(X)
     assert np.allclose(got[[0, 3]], [[2, 4, 1], [2, 0, 1]])
     assert (got[1:3, 2] == 0).all()
+    # a loop NaN-padded at the end is read up to its own length
+    padded = np.full((2, 300, 3), np.nan)
+    padded[:, :200] = X[:2]
+    padded[0, :150] = _loop(150, period=30) * 3
+    padded[0, 150:] = np.nan
+    got = _Spread().fit(padded).transform(padded)
+    short = _loop(150, period=30) * 3
+    assert np.allclose(got[0], [np.ptp(short[:, 0]), np.ptp(short[:, 1]), 1])
+    assert np.isnan(got[1, :2]).all()
 
 
 def test_transformer_without_an_oscillating_column_is_all_nan_on_bad_loops():
@@ -119,6 +128,8 @@ def test_op_readers_refuse_loops_without_op_and_name_it():
     pv_only = _loop()[None, :, :1]
     with pytest.raises(ValueError, match=r"_Spread needs the OP channel \(X\[:, :, 1\]\)"):
         _Spread().fit(pv_only)
+    with pytest.raises(ValueError, match=r"Pass loops with channels PV, OP, SP, or use signals"):
+        _Spread().fit(pv_only)
     est = _Spread().fit(_loop()[None])
     with pytest.raises(ValueError, match="needs the OP channel"):
         est.transform(pv_only)
@@ -134,6 +145,13 @@ def test_fit_records_channels_and_names_need_a_fit():
         _Spread().get_feature_names_out()
     with pytest.raises(NotFittedError):
         _Spread().transform(_loop()[None])
+    # one PV record per row: its length is checked as scikit-learn's n_features_in_
+    est = _PVOnly().fit(_loop()[None, :, 0])
+    assert est.n_features_in_ == 200
+    assert est.transform(_loop()[None, :, 0]).shape == (1, 3)
+    with pytest.raises(ValueError, match="features"):
+        est.transform(_loop(250)[None, :, 0])
+    assert not hasattr(est.fit(_loop()[None]), "n_features_in_")  # 3-D loops: any length
     names = _Spread().fit(_loop()[None]).get_feature_names_out()
     assert names.dtype == object and names.tolist() == list(_Spread.feature_names)
 

@@ -128,6 +128,9 @@ def test_resample_averages_over_bins():
 def test_range_extrema_of_lists_and_empty_ranges():
     top, bottom = range_extrema([4, -2, 7, 1], [0, 1, 3, 2], [2, 4, 3, 9])
     assert top.tolist() == [4, 7, -np.inf, 7] and bottom.tolist() == [-2, -2, np.inf, 1]
+    # bounds from np.floor / np.ceil (whole floats) index the same
+    top, bottom = range_extrema([4, -2, 7, 1], np.array([0.0, 1, 3, 2]), np.array([2.0, 4, 3, 9]))
+    assert top.tolist() == [4, 7, -np.inf, 7] and bottom.tolist() == [-2, -2, np.inf, 1]
 
 
 def test_cycle_distances_do_not_depend_on_amplitude_or_offset_of_time():
@@ -154,6 +157,17 @@ def test_a_half_of_one_bin_is_matched_by_its_area():
     x = np.r_[3.0, -np.ones(31)]
     d = match_cycles(x, [[-0.5, 0.5, 31.5]], sakoe_chiba_radius=0)
     assert d[0, SHAPES.index("rectangular")] == pytest.approx(0.0, abs=1e-12)
+    # and the mirror: a second half of one sample of height -3
+    d = match_cycles(-x[::-1], [[-0.5, 30.5, 31.5]], sakoe_chiba_radius=0)
+    assert d[0, SHAPES.index("rectangular")] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_match_cycles_defaults():
+    x, bounds = make_shape_cycles("trapezoidal", 6, snr_db=5, random_state=9)
+    d = match_cycles(x, bounds)
+    assert np.array_equal(d, match_cycles(x, bounds, n_points=32, sakoe_chiba_radius=2))
+    assert not np.allclose(d, match_cycles(x, bounds, sakoe_chiba_radius=3))
+    assert not np.allclose(d, match_cycles(x, bounds, n_points=31))
 
 
 def test_shape_cycles_have_the_asked_periods_halves_heights_and_noise():
@@ -171,6 +185,11 @@ def test_shape_cycles_have_the_asked_periods_halves_heights_and_noise():
     second = clean[bounds[:, 1].astype(int)]
     assert np.allclose(first * second, -1.0)  # heights h and -1 / h
     assert first.min() >= 0.5 and first.max() <= 2.0 and first.min() < 0.6 and first.max() > 1.8
+    # each half sampled at the centres of its samples: symmetric, never at its zeros
+    tri, _ = make_shape_cycles("triangular", 5, snr_db=np.inf, random_state=7, **kw)
+    for a, m, b in bounds[:5].astype(int):
+        for half in (tri[a:m], tri[m:b]):
+            assert np.allclose(half, half[::-1]) and np.abs(half).min() > 0
     noisy, same = make_shape_cycles("rectangular", 200, snr_db=10, random_state=7, **kw)
     assert np.array_equal(same, bounds)
     snr = 10 * np.log10(np.mean(clean**2) / np.mean((noisy - clean) ** 2))
@@ -190,6 +209,10 @@ def test_shape_cycles_defaults():
     snr = 10 * np.log10(np.mean(clean**2) / np.mean((x - clean) ** 2))
     assert snr == pytest.approx(20, abs=0.5)
     assert np.array_equal(make_shape_cycles("rectangular", random_state=8)[0], x)
+    # over many cycles the periods fill 100 +- 30 %, and no more
+    many = make_shape_cycles("rectangular", 2000, random_state=8)[1]
+    periods = many[:, 2] - many[:, 0]
+    assert periods.min() == 70 and periods.max() == 130
 
 
 @pytest.mark.parametrize("snr_db, required", [(20.0, 0.95), (10.0, 0.85)])
