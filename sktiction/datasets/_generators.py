@@ -32,7 +32,6 @@ from ..simulation import (
     SquareDisturbance,
     WhiteNoise,
     make_valve,
-    simulate_loops,
 )
 from ..simulation._threads import single_blas_thread
 from ..simulation.disturbances import PVVariation
@@ -42,7 +41,7 @@ from ..simulation.historian import (
     IntervalAveraging,
     SpanQuantization,
 )
-from ..simulation.loop import _loop_arrays, _simulate
+from ..simulation.loop import _loop_arrays, _record, _simulate
 
 __all__ = ["make_loops"]
 
@@ -1265,10 +1264,12 @@ def make_loops(
             labels, n_samples, ts, orders, lam_lo, lam_hi, p_lo, p_hi, s_lo, s_hi,
             snr_lo, snr_hi, slip_fraction, stiction_models, rng,
         )  # fmt: skip
-        res = simulate_loops(
-            plants, controllers, valves, int(n_samples), ts, effects=effects, random_state=rng
-        )
-        X = res.X
+        # simulate_loops' work without the valve positions nobody reads
+        n = len(labels)
+        loops = _loop_arrays(plants, controllers, valves, np.full(n, ts), np.full(n, 50.0))
+        X = np.empty((n, int(n_samples), 3))
+        _simulate(loops, np.full((n, 1), 50.0), effects, int(n_samples), rng, X)
+        _record(X, effects, np.full(n, ts), rng)
     else:
         opt = _check_default_options(opt, orders, n_samples, realism)
         # arguments the caller gave win over a calibrated world's per-loop settings too

@@ -334,6 +334,19 @@ def _simulate(loops, sp, effects, n_samples, rng, X, valve=None, start=0, on_chu
             on_chunk(lo, hi, vbuf)
 
 
+def _record(X, effects, ts, rng):
+    """Apply each loop's recording effects to its record in ``X``, loop by loop, in place."""
+    for j, row in enumerate(effects):
+        rec = [eff for eff in row if eff.kind == "recording"]
+        if not rec:
+            continue
+        sig = {"pv": X[j, :, 0].copy(), "op": X[j, :, 1].copy(), "sp": X[j, :, 2].copy()}
+        for eff in rec:
+            sig = eff.record(sig, ts[j], rng)
+        for c, key in enumerate(CHANNELS):
+            X[j, :, c] = sig[key]
+
+
 @single_blas_thread
 def simulate_loops(
     plants,
@@ -438,14 +451,7 @@ def simulate_loops(
     t = np.arange(n_samples) * ts_arr[0]
     if np.any(ts_arr != ts_arr[0]):
         t = np.arange(n_samples)[None, :] * ts_arr[:, None]
-    if any(e.kind == "recording" for row in effects for e in row):
-        for j in range(n_loops):
-            sig = {"pv": X[j, :, 0].copy(), "op": X[j, :, 1].copy(), "sp": X[j, :, 2].copy()}
-            for eff in effects[j]:
-                if eff.kind == "recording":
-                    sig = eff.record(sig, ts_arr[j], rng)
-            for c, key in enumerate(CHANNELS):
-                X[j, :, c] = sig[key]
+    _record(X, effects, ts_arr, rng)
     return Bunch(pv=X[:, :, 0], op=X[:, :, 1], sp=X[:, :, 2], valve=valve, t=t, X=X)
 
 
