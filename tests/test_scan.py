@@ -19,9 +19,14 @@ def small_learned():
     """A learned pipeline of the package's transformers (the scan reads their features
     from its shared pass), fitted on a few simulated loops."""
     X, y = make_loops(80, n_samples=1000, slip_fraction=0.25, random_state=0)
-    features = FeatureUnion([("area", AreaRatio()), ("templates", TemplateDistances()),
-                             ("descriptors", LoopDescriptors()),
-                             ("valve_model", StictionModelFit())])
+    features = FeatureUnion(
+        [
+            ("area", AreaRatio()),
+            ("templates", TemplateDistances()),
+            ("descriptors", LoopDescriptors()),
+            ("valve_model", StictionModelFit()),
+        ]
+    )
     model = HistGradientBoostingClassifier(max_iter=40, random_state=0)
     return Pipeline([("features", features), ("model", model)]).fit(X, y)
 
@@ -50,20 +55,22 @@ def reference_scan(X, loop_types, learned):
     sticky = ok & (proba >= 0.5)
     size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
     size[~sticky] = np.nan
-    return pd.DataFrame({
-        "status": status,
-        "verdict": np.where(ok, np.where(sticky, "stiction", "no_stiction"), "no_verdict"),
-        "stiction_probability": proba,
-        "area_ratio": ar["area_ratio"].to_numpy(),
-        "area_ratio_stiction": ar["prediction"].to_numpy(),
-        "shape_confidence": shape["score"].to_numpy(dtype=float),
-        "shape_stiction": shape["prediction"].to_numpy(dtype=int),
-        "shape_loop_type": shape["loop_type"].to_numpy(),
-        "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
-        "stiction_size_mean": size[:, 0],
-        "stiction_size_max": size[:, 1],
-        "reason": np.where(ok, shape["reason"].to_numpy(dtype=object), status),
-    })
+    return pd.DataFrame(
+        {
+            "status": status,
+            "verdict": np.where(ok, np.where(sticky, "stiction", "no_stiction"), "no_verdict"),
+            "stiction_probability": proba,
+            "area_ratio": ar["area_ratio"].to_numpy(),
+            "area_ratio_stiction": ar["prediction"].to_numpy(),
+            "shape_confidence": shape["score"].to_numpy(dtype=float),
+            "shape_stiction": shape["prediction"].to_numpy(dtype=int),
+            "shape_loop_type": shape["loop_type"].to_numpy(),
+            "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
+            "stiction_size_mean": size[:, 0],
+            "stiction_size_max": size[:, 1],
+            "reason": np.where(ok, shape["reason"].to_numpy(dtype=object), status),
+        }
+    )
 
 
 def mixed_loops():
@@ -81,8 +88,7 @@ def mixed_loops():
 def test_one_pass_scan_equals_the_classifiers_run_one_by_one(small_learned, no_gate):
     X, types = mixed_loops()
     expected = reference_scan(X, types, small_learned)
-    got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=small_learned,
-                     chunk_size=7)
+    got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=small_learned, chunk_size=7)
     got = got.drop(columns="loop_type")
     assert set(got["verdict"]) == {"stiction", "no_stiction", "no_verdict"}
     assert (got["n_cycles"] > 0).sum() >= 4 and got["area_ratio"].notna().sum() >= 4
@@ -111,8 +117,13 @@ def test_a_model_that_abstains_gives_no_verdict_with_its_reason(no_gate):
 
         def diagnose(self, X):
             inside = np.arange(len(X)) % 2 == 0
-            return pd.DataFrame({"probability": np.ones(len(X)), "in_domain": inside,
-                                 "reason": np.where(inside, "ok", "unlike_training")})
+            return pd.DataFrame(
+                {
+                    "probability": np.ones(len(X)),
+                    "in_domain": inside,
+                    "reason": np.where(inside, "ok", "unlike_training"),
+                }
+            )
 
     X, _ = make_loops(4, n_samples=1500, random_state=1)
     report = scan_loops(X, classifier=Abstaining())
@@ -151,8 +162,9 @@ def site(tmp_path_factory):
     lengths = [2000, 1500, 1800, 2000, 1200, 2000, 1600]
     X[3, 700:703] = np.nan  # a short gap, bridged by the repair
     for i, n in enumerate(lengths):
-        pd.DataFrame({"t": np.arange(n), "PV": X[i, :n, 0], "OP": X[i, :n, 1],
-                      "SP": X[i, :n, 2]}).to_csv(folder / f"FIC{i:03d}.csv", index=False)
+        pd.DataFrame(
+            {"t": np.arange(n), "PV": X[i, :n, 0], "OP": X[i, :n, 1], "SP": X[i, :n, 2]}
+        ).to_csv(folder / f"FIC{i:03d}.csv", index=False)
     (folder / "FIC050.csv").write_text("t,PV,OP\n0,1,abc\n")
     (folder / "readme.docx").write_bytes(b"PK\x03\x04 not a loop file")
     return folder
@@ -182,8 +194,9 @@ def test_scan_files_equals_scan_loops_on_the_same_loops(site, small_learned, no_
     pd.testing.assert_frame_equal(got, expected, check_dtype=False, rtol=1e-12)
 
 
-def test_scan_files_bridges_short_gaps_and_does_not_depend_on_the_chunk(site, small_learned,
-                                                                        no_gate):
+def test_scan_files_bridges_short_gaps_and_does_not_depend_on_the_chunk(
+    site, small_learned, no_gate
+):
     from sktiction.reports import scan_files
 
     one = scan_files(site, classifier=small_learned, chunk_size=1, max_gap=5)
@@ -199,10 +212,18 @@ def test_scans_on_a_dask_cluster_give_the_local_report(site, small_learned):
 
     local = scan_files(site, classifier=small_learned, chunk_size=2)
     # one in-process worker over TCP on loopback: light, and the real transport
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  protocol="tcp://", host="127.0.0.1",
-                                  dashboard_address=None) as cluster, \
-            distributed.Client(cluster) as client:
+    with (
+        distributed.LocalCluster(
+            n_workers=1,
+            threads_per_worker=1,
+            processes=False,
+            protocol="tcp://",
+            host="127.0.0.1",
+            dashboard_address=":0",
+            worker_dashboard_address=None,
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
         remote = scan_files(site, classifier=small_learned, chunk_size=2, client=client)
         X, types = mixed_loops()
         meta = pd.DataFrame({"loop_type": types})
@@ -223,5 +244,6 @@ def test_the_model_runs_in_one_process_inside_the_scan_workers(small_learned, no
     adapter = LearnedAdapter(parallel)
     assert adapter.classifier.get_params()["features__n_jobs"] == 1
     assert parallel.get_params()["features__n_jobs"] == 2  # the caller's model is untouched
-    np.testing.assert_array_equal(scan_loops(X, classifier=parallel)["stiction_probability"],
-                                  parallel.predict_proba(X)[:, 1])
+    np.testing.assert_array_equal(
+        scan_loops(X, classifier=parallel)["stiction_probability"], parallel.predict_proba(X)[:, 1]
+    )

@@ -177,9 +177,12 @@ def test_defaults_the_pretrained_model_and_shows_progress_per_file(site, monkeyp
 def test_a_dask_cluster_reads_and_scans_the_files(site):
     distributed = pytest.importorskip("distributed")
     local = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0)
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as cluster, \
-            distributed.Client(cluster) as client:  # fmt: skip
+    # one in-process worker; dashboards on a free port (8787 may be taken)
+    one_worker = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0",
+        worker_dashboard_address=None,
+    )  # fmt: skip
+    with one_worker as cluster, distributed.Client(cluster) as client:
         remote = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0, client=client)
     pd.testing.assert_frame_equal(remote, local)
     assert list(local.columns[-len(REPORT_COLUMNS) :]) == REPORT_COLUMNS
