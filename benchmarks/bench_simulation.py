@@ -11,6 +11,8 @@ Figures, for ``n_loops`` loops of ``n_samples`` samples:
   each started by a setpoint step; then ``simulate_loops`` end to end (fresh
   output arrays, discretisation, effects) and everything including building the
   plant and controller objects, in chunks to bound memory;
+* the first touch of a fresh output array as large as ``make_loops``' (memory the
+  process has not used yet: every call returns such an array);
 * ``make_loops`` end to end for the default and the classic world, 3 runs each
   (seeds 0-2): min / median / max of the rate in CPU time of this process
   (``time.process_time``; the machine may be shared, which wall time shows) and
@@ -88,6 +90,11 @@ def main(n_loops=2000, n_samples=5000, chunk=250):
     report("simulate_loops", *sim, samples)
     report("incl. building objects", *total, samples)
     kernel_rate = samples / kernel_cpu
+    # every make_loops call returns a fresh (n_loops, n_samples, 3) array: its first touch
+    t0 = time.perf_counter(), time.process_time()
+    np.empty((n_loops, n_samples, 3)).fill(0.0)
+    report("touching a fresh output", time.perf_counter() - t0[0], time.process_time() - t0[1],
+           samples)  # fmt: skip
     for world in ("default", "classic"):
         make_loops(4, 200, world=world, random_state=0)  # compile / load cache
         wall, cpu = [], []
