@@ -168,3 +168,60 @@ def test_read_loops_passes_its_arguments_and_fills_its_bunch(tmp_path):
     assert data.meta.loc[0, "ts"] == pytest.approx(0.01)
     assert data.channels == ("pv", "op", "sp")
     assert read_loops(f).meta.loc[0, "ts"] == 10.0
+
+
+def test_which_columns_make_a_loop(tmp_path):
+    two_times = _write(tmp_path / "a.csv", "t,time,PV,OP\n0,0,1,2\n1,1,2,3\n")
+    assert read_loop_file(two_times).meta.loc[0, "reason"] == (
+        "several columns could be the time: ['t', 'time']; choose one with channels={'time': ...}"
+    )
+    none = _write(tmp_path / "b.csv", "t,flow,valve\n0,1,2\n1,2,3\n")
+    assert read_loop_file(none).meta.loc[0, "reason"] == (
+        "no PV column (looked for pv/y/cv/meas/measurement/process_variable, also after a "
+        "'<tag>.' prefix, in ['t', 'flow', 'valve']); name it with channels={'pv': ...}"
+    )
+    # loops in column order, not in tag order; an untagged OP beside a tagged one is left
+    order = _write(tmp_path / "c.csv", "t,TIC9.PV,TIC9.OP,FIC1.PV,FIC1.OP,OP\n0,1,2,3,4,5\n"
+                   "1,2,3,4,5,6\n")  # fmt: skip
+    meta = read_loop_file(order).meta
+    assert meta["tag"].tolist() == ["TIC9", "FIC1"]
+    assert meta["reason"].tolist() == ["columns ['OP'] not used: no PV beside them"] * 2
+    one = _write(tmp_path / "d.csv", "t,FIC1.PV,FIC1.OP,SP,OP\n0,1,2,3,4\n1,2,3,4,5\n")
+    data = read_loop_file(one)
+    np.testing.assert_array_equal(data.X[0, :, 1:], [[2, 3], [3, 4]])  # FIC1's OP, the SP
+    assert data.meta.loc[0, "reason"] == "columns ['OP'] not used: no PV beside them"
+    # a column named as one channel is not used again for another
+    named = _write(tmp_path / "e.csv", "t,PV,OP,SP\n0,1,2,3\n1,2,3,4\n")
+    data = read_loop_file(named, channels={"pv": "SP"})
+    np.testing.assert_array_equal(data.X[0], [[3, 2, np.nan], [4, 3, np.nan]])
+
+
+def test_what_a_file_without_loops_says(tmp_path):
+    assert read_loop_file(tmp_path).meta.loc[0, "reason"] == (
+        "is a folder: read it with read_loops or list its files first"
+    )
+    assert read_loop_file(tmp_path / "gone.csv").meta.loc[0, "reason"] == "file does not exist"
+    one = _write(tmp_path / "one.csv", "PV,OP\n1,2\n")
+    assert read_loop_file(one).meta.loc[0, "reason"] == "only one row of data"
+    gap = _write(tmp_path / "gap.csv", "t,PV,OP\n0,1,2\n,2,3\n2,3,4\n")
+    assert read_loop_file(gap, strict=True).meta.loc[0, "reason"] == (
+        "time column 't' has 1 empty values"
+    )
+
+
+def test_date_and_time_columns_and_the_historians_time_format(tmp_path):
+    f = _write(tmp_path / "a.csv", "Date,Time,PV,OP\n2024-01-01,10:00:00,1,2\n"
+               "2024-01-01,10:00:05,2,3\n2024-01-01,10:00:10,3,4\n")  # fmt: skip
+    meta = read_loop_file(f).meta
+    assert meta.loc[0, "ts"] == 5.0 and "time from columns Date + Time" in meta.loc[0, "reason"]
+    assert str(meta.loc[0, "start"]) == "2024-01-01 10:00:00"
+    # the header's Java pattern says month first: 01/02 is the 2nd of January
+    text = (
+        "PROCESSDATA\tFIC7 Data\tMM/dd/yyyy HH:mm:ss\r\n8\t10\t01/02/2024 10:00:00\t3\r\n"
+        "tagname\tFIC7.MV\tFIC7.PV\r\ndesc\tflow_OP\tflow_PV\r\nfsMax=3\tfsMin=0\r\n"
+        "01/02/2024 10:00:00\t1\t2\r\n01/02/2024 10:00:10\t2\t3\r\n01/02/2024 10:00:20\t3\t4\r\n"
+    )
+    hist = _write(tmp_path / "FIC7.txt", text)
+    meta = read_loop_file(hist).meta
+    assert meta.loc[0, "status"] == "ok", meta.loc[0, "reason"]
+    assert str(meta.loc[0, "start"]) == "2024-01-02 10:00:00" and meta.loc[0, "ts"] == 10.0
