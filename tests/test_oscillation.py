@@ -204,6 +204,7 @@ def test_features_per_channel():
     assert f["op_oscillating"] == 1 and f["op_n_components"] == 1
     assert f["op_period"] == pytest.approx(45, rel=0.02) and np.isnan(f["op_period_2"])
     assert f["op_osc_index"] > 0.99 and f["op_regularity"] > 1
+    assert f["op_coherence"] > 0.95  # a pure cycle keeps its phase
     assert f["pv_oscillating"] == 0 and np.isnan(f["pv_period"])
     assert 0 <= f["pv_osc_index"] < 0.5
 
@@ -330,3 +331,42 @@ def test_held_samples_are_filled_by_straight_lines():
     assert _fill_repeats(few) is few  # left alone
     few = np.r_[held[:8], 4 + np.arange(72.0)]  # 4 repeats (5.1 %): filled
     assert _fill_repeats(few)[:8] == pytest.approx(np.arange(8) / 2)
+
+
+def test_harmonics_of_a_saw_tooth_are_not_components():
+    # every harmonic (2nd, 3rd, ...) of a saw-tooth, as a sticky valve's OP draws it
+    t = np.arange(3000)
+    saw = (t % 90) / 90 + 0.05 * np.random.default_rng(0).normal(size=t.size)
+    assert [c.period for c in detect_oscillations(saw) if c.index > 0.5] == pytest.approx(
+        [90], rel=0.01
+    )
+
+
+def test_an_oscillation_six_times_faster_is_not_a_harmonic():
+    # beyond the 5th harmonic a faster cycle is a second oscillation, even when weaker
+    t = np.arange(3000)
+    x = np.sin(2 * np.pi * t / 120) + 0.5 * np.sin(2 * np.pi * t / 20)
+    found = [c.period for c in detect_oscillations(x) if c.index > 0.5]
+    assert sorted(found) == pytest.approx([20, 120], rel=0.01)
+
+
+def test_a_cycle_with_a_strong_fifth_harmonic_is_one_component():
+    t = np.arange(3000)
+    x = np.sin(2 * np.pi * t / 100) + 0.4 * np.sin(2 * np.pi * t / 20)
+    assert [c.period for c in detect_oscillations(x) if c.index > 0.5] == pytest.approx(
+        [100], rel=0.01
+    )
+
+
+def test_a_cycle_is_no_harmonic_of_resonant_noise():
+    # a cycle of 20 samples on noise resonating near 60; in these two draws the noise's
+    # component lands within 2 % of three times the cycle's period, yet it does not
+    # oscillate, so the cycle is not part of its shape
+    bench = _bench()
+    t = np.arange(3000)
+    for seed in (8, 18):
+        noise = bench._ar2(np.random.default_rng(seed), t.size, 60, 0.5)
+        components = detect_oscillations(0.4 * np.sin(2 * np.pi * t / 20) + noise)
+        slow = [c for c in components if abs(c.period / 60 - 1) < 0.02]
+        assert slow and slow[0].index < 0.5
+        assert [c.period for c in components if c.index > 0.5] == pytest.approx([20], rel=0.01)
