@@ -112,6 +112,8 @@ def test_the_smallest_max_lag():
     t = np.arange(400)
     op = np.sin(2 * np.pi * t / 50)
     assert _describe(np.roll(op, 1), op, max_lag=1)["ccf_peak_lag"] == 1.0
+    # a delay beyond max_lag is read at max_lag, the largest lag looked at
+    assert _describe(np.roll(op, 2), op, max_lag=1)["ccf_peak_lag"] == 1.0
 
 
 def test_ccf_zero_lag_is_relative_to_the_peak_of_a_noisy_pv():
