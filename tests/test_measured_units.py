@@ -225,3 +225,71 @@ def test_date_and_time_columns_and_the_historians_time_format(tmp_path):
     meta = read_loop_file(hist).meta
     assert meta.loc[0, "status"] == "ok", meta.loc[0, "reason"]
     assert str(meta.loc[0, "start"]) == "2024-01-02 10:00:00" and meta.loc[0, "ts"] == 10.0
+
+
+def test_resampling_holds_the_mode_and_strict_only_reports(tmp_path):
+    f = _write(tmp_path / "a.csv", "t,PV,OP,MODE\n0,1,10,1\n1,2,20,1\n2,3,30,0\n3.5,4,40,1\n"
+               "4,5,50,1\n5,6,60,1\n6,7,70,1\n")  # fmt: skip
+    data = read_loop_file(f, return_frames=True)
+    frame = data.frames[0]
+    assert frame["time"].tolist() == [0, 1, 2, 3, 4, 5, 6]
+    # t = 3 lies a third of the way from t = 2 to t = 3.5: values on the line, MODE held
+    assert frame.loc[3, "op"] == pytest.approx(30 + 10 / 1.5)
+    assert frame.loc[3, "mode"] == 0.0
+    assert data.meta.loc[0, "reason"].endswith("resampled to 7 rows at 1 s")
+    strict = read_loop_file(f, strict=True, return_frames=True)
+    assert strict.frames[0]["time"].tolist() == [0, 1, 2, 3.5, 4, 5, 6]  # reported only
+    assert strict.meta.loc[0, "reason"] == (
+        "irregular sampling: 2 intervals differ from 1 s (min 0.5, max 1.5)"
+    )
+
+
+def test_rows_without_a_time_and_times_in_a_named_unit(tmp_path):
+    f = _write(tmp_path / "a.csv", "t,PV,OP\n0,1,2\nabc,2,3\n2,3,4\n3,4,5\n")
+    data = read_loop_file(f)
+    assert data.meta.loc[0, "reason"].startswith("1 row without a readable time skipped; ")
+    np.testing.assert_array_equal(data.X[0, :, 0], [1, 2.5, 4])  # 0, 1.5, 3 s: row 2 gone
+    minutes = _write(tmp_path / "b.csv", "t_min,PV,OP\n0,1,2\n1,2,3\n2,3,4\n")
+    meta = read_loop_file(minutes).meta
+    assert (meta.loc[0, "ts"], meta.loc[0, "reason"]) == (
+        60.0,
+        "time in min (from the column name)",
+    )
+    # dates in a column named in minutes: the dates decide, no scaling
+    dated = _write(tmp_path / "c.csv", "time_min,PV,OP\n2024-01-01 10:00:00,1,2\n"
+                   "2024-01-01 10:01:00,2,3\n2024-01-01 10:02:00,3,4\n")  # fmt: skip
+    assert read_loop_file(dated).meta.loc[0, "ts"] == 60.0
+    # a given ts wins; a disagreement of more than 1 % is noted
+    assert read_loop_file(minutes, ts=60).meta.loc[0, "reason"] == (
+        "time in min (from the column name)"
+    )
+    assert read_loop_file(minutes, ts=60.5).meta.loc[0, "reason"] == (
+        "time in min (from the column name)"
+    )
+    late = read_loop_file(minutes, ts=61).meta
+    assert late.loc[0, "ts"] == 61.0
+    assert late.loc[0, "reason"].endswith("; ts=61 given, timestamps say 60 s")
+    no_time = _write(tmp_path / "d.csv", "PV,OP\n1,2\n2,3\n")
+    assert read_loop_file(no_time).meta.loc[0, "reason"] == (
+        "cannot determine the sampling time (no time column); pass ts="
+    )
+
+
+def test_the_error_of_a_loop_comes_before_its_notes(tmp_path):
+    f = _write(tmp_path / "a.csv", "t,PV\n0,a\n1,b\n")
+    data = read_loop_file(f)
+    assert data.meta.loc[0, "reason"] == (
+        "PV column 'PV' holds no numbers; 2 text values in PV read as NaN ('a' x1, 'b' x1); "
+        "no OP column"
+    )
+    assert data.meta.loc[0, "status"] == "error" and np.isnan(data.X).all()
+
+
+def test_a_historians_header_names_its_loop(tmp_path):
+    text = (
+        "PROCESSDATA\tFIC7 Data\tyyyy-MM-dd HH:mm:ss\r\n8\t10\t2024-01-01 10:00:00\t3\r\n"
+        "tagname\tUNIT1.FIC7.MV\tUNIT1.FIC7.PV\r\ndesc\tflow_OP\tflow_PV\r\nfsMax=3\tfsMin=0\r\n"
+        "2024-01-01 10:00:00\t1\t2\r\n2024-01-01 10:00:10\t2\t3\r\n2024-01-01 10:00:20\t3\t4\r\n"
+    )
+    meta = read_loop_file(_write(tmp_path / "export.txt", text)).meta
+    assert meta.loc[0, ["tag", "loop_type"]].tolist() == ["FIC7", "flow"]
