@@ -1,11 +1,12 @@
 """Control valve models: healthy, deadband and four stiction models.
 
 Each valve is a small parameter holder; the stepping itself is one compiled
-function, :func:`valve_step`, selected by an integer ``kind`` so that the
-closed loop can run every valve type inside one numba kernel. Positions and
-parameters are in % of the valve span.
+function, ``_valve_update``, selected by an integer ``kind`` so that the
+closed loop can run every valve type inside one numba kernel (which keeps the
+state in local variables; :func:`valve_step` steps a state array). Positions
+and parameters are in % of the valve span.
 
-State vector (``STATE_SIZE`` floats) used by the kernel:
+State vector (``STATE_SIZE`` floats):
 ``[y, u_prev, du_sign_prev, stuck, direction, u_stick]``.
 """
 
