@@ -2,6 +2,7 @@
 MODE text, notes on status text, strict timestamp errors and read_loops' collection."""
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from sktiction.datasets import list_loop_files, read_loop_file, read_loops
@@ -153,8 +154,6 @@ def test_loops_without_op_keep_their_setpoint_and_each_loop_its_mode(tmp_path):
 
 def test_nullable_integers_from_parquet(tmp_path):
     pytest.importorskip("pyarrow")
-    import pandas as pd
-
     frame = pd.DataFrame({"t": [0, 1, 2], "PV": pd.array([1, None, 3], dtype="Int64"),
                           "OP": pd.array([4, 5, 6], dtype="Int64")})  # fmt: skip
     frame.to_parquet(tmp_path / "FIC1.parquet")
@@ -293,3 +292,38 @@ def test_a_historians_header_names_its_loop(tmp_path):
     )
     meta = read_loop_file(_write(tmp_path / "export.txt", text)).meta
     assert meta.loc[0, ["tag", "loop_type"]].tolist() == ["FIC7", "flow"]
+
+
+def test_an_unreadable_file_has_one_empty_row_and_typed_meta(tmp_path):
+    data = read_loop_file(tmp_path / "FIC1.csv")
+    assert data.X.shape == (1, 0, 3) and "frames" not in data
+    row = data.meta.iloc[0]
+    assert data.meta.columns.tolist() == [
+        "file", "path", "format", "tag", "isa", "loop_type", "ts", "n_samples", "n_nan",
+        "auto_fraction", "start", "status", "reason",
+    ]  # fmt: skip
+    assert row[["file", "path", "format", "tag", "isa", "loop_type"]].tolist() == [
+        "FIC1.csv", str(tmp_path / "FIC1.csv"), "", "", "", "unknown"
+    ]  # fmt: skip
+    assert row[["n_samples", "n_nan", "status"]].tolist() == [0, 0, "error"]
+    assert np.isnan(row["ts"]) and np.isnan(row["auto_fraction"]) and row["start"] is pd.NaT
+    assert str(data.meta["start"].dtype).startswith("datetime64")
+    with pytest.raises(ValueError, match="channels must be a dict"):
+        read_loop_file(tmp_path / "FIC1.csv", channels={"flow": "F"})
+    # a loop in error says unknown whatever its tag says
+    bad = read_loop_file(_write(tmp_path / "FIC9.csv", "t,PV,OP\n0,a,1\n1,b,2\n")).meta
+    assert bad.loc[0, ["tag", "isa", "loop_type", "status"]].tolist() == [
+        "FIC9", "FIC", "unknown", "error"
+    ]  # fmt: skip
+
+
+def test_frames_of_a_file_without_times_and_missing_values_counted(tmp_path):
+    f = _write(tmp_path / "FIC1.csv", "PV,SP\n1,5\n,5\n3,6\n")
+    data = read_loop_file(f, ts=2.0, return_frames=True)
+    frame = data.frames[0]
+    assert frame.columns.tolist() == ["time", "pv", "op", "sp", "mode"]
+    assert frame["time"].tolist() == [0.0, 2.0, 4.0]
+    np.testing.assert_array_equal(frame["pv"], [1, np.nan, 3])
+    np.testing.assert_array_equal(frame["sp"], [5, 5, 6])
+    assert frame["op"].isna().all() and frame["mode"].isna().all()
+    assert data.meta.loc[0, "n_nan"] == 1  # no OP column: only PV's gap counts
