@@ -105,12 +105,13 @@ def remove_mean(x, period):
     return x - moving_average(x, period)
 
 
-def horch_filter(x, period, ts=1.0):
+def horch_filter(x, period):
     """Horch's first-order low-pass filter, cut-off at three times the oscillation frequency.
 
     Seed 000 Eq. 23: ``H(q^-1) = (1 - c) / (1 - c q^-1)`` with
-    ``c = exp(-3 w_osc Ts)``, ``w_osc = 2 pi / (period Ts)``. It is run forwards and
-    backwards so the filtered signal is not delayed (peaks keep their place).
+    ``c = exp(-3 w_osc Ts)``, ``w_osc = 2 pi / (period Ts)``: the sample time cancels,
+    so only the ``period`` in samples is needed. It is run forwards and backwards so the
+    filtered signal is not delayed (peaks keep their place).
     """
     x = np.asarray(x, dtype=float)
     if not np.isfinite(period) or period <= 0:

@@ -85,7 +85,7 @@ class LoopDescriptors(LoopTransformer):
       largest 2 % of sample-to-sample moves; ``pv_op_jump_ratio`` their ratio
       (large when PV slips while OP ramps, the mark of stick-slip).
     - ``op_saturated_share``: share of samples with OP pinned at its own minimum
-      or maximum (0 when under 1 %, so a single touch does not count).
+      or maximum (0 up to 1 %, so a single touch does not count).
 
     Every column is unchanged when PV and OP are scaled or shifted. The kurtosis
     of PV increments minus OP increments was dropped: in simulated training sets it
