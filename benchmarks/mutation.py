@@ -80,6 +80,17 @@ _CHECKS = "tests/test_estimator_checks.py"
 #: Per file, the tests that exercise it and run in seconds (measured in docs/mutation.md);
 #: ``--module <file>`` without ``--tests`` uses them.
 TARGETED = {
+    "sktiction/cycles/_analysis.py": ["tests/test_cycles.py"],
+    "sktiction/cycles/_signal.py": ["tests/test_cycles.py", "tests/test_cycles_signal.py"],
+    "sktiction/features/descriptors.py": [
+        "tests/test_features_descriptors.py",
+        f"{_CHECKS}::test_loop_descriptors_read_a_known_delay_and_saturation",
+        f"{_CHECKS}::test_transformer_on_loops[LoopDescriptors()]",
+        f"{_CHECKS}::test_bad_loops_give_a_row_and_leave_the_others_alone[LoopDescriptors()]",
+    ],
+    "sktiction/features/dtw.py": ["tests/test_templates.py"],
+    "sktiction/features/templates.py": ["tests/test_templates.py"],
+    "sktiction/features/_loops.py": ["tests/test_features_loops.py", "tests/test_templates.py"],
     "sktiction/features/area_ratio.py": [
         "tests/test_area_ratio.py",
         f"{_CHECKS}::test_area_ratio_of_known_half_cycles",
