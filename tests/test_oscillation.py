@@ -284,6 +284,7 @@ def test_cycle_acf_of_few_cycles_and_of_random_walks():
     # mean over any period takes its slow part, and the rest has short memory
     short = detect_oscillations(np.sin(2 * np.pi * np.arange(360) / 100))[0]
     assert short.period == pytest.approx(100, rel=0.02) and short.cycle_acf > 0.9
+    assert short.coherence == 1.0  # the unbiased ACF exceeds 1 at the last lags: clipped
     walks = [np.cumsum(np.random.default_rng(s).normal(size=1500)) for s in range(20)]
     acfs = [max((c.cycle_acf for c in detect_oscillations(w)), default=0.0) for w in walks]
     assert np.median(acfs) < 0.35
@@ -370,3 +371,28 @@ def test_a_cycle_is_no_harmonic_of_resonant_noise():
         slow = [c for c in components if abs(c.period / 60 - 1) < 0.02]
         assert slow and slow[0].index < 0.5
         assert [c.period for c in components if c.index > 0.5] == pytest.approx([20], rel=0.01)
+
+
+def test_regularity_of_a_noisy_sinusoid_is_finite_and_large():
+    # Thornhill's r = mean / (3 sd) of the ACF's crossing intervals: large for a cycle,
+    # infinite only when the intervals are exactly equal
+    t = np.arange(3000)
+    x = np.sin(2 * np.pi * t / 50) + 0.3 * np.random.default_rng(0).normal(size=t.size)
+    r = detect_oscillations(x)[0].regularity
+    assert np.isfinite(r) and r > 100
+
+
+@pytest.mark.parametrize("slope", [1.0, 2.0])
+def test_background_of_a_power_law_is_the_power_law(slope):
+    # random walks and drift have power-law spectra: the background read around a bin is
+    # the spectrum there, from both sides, or (for a slow bin whose lower side is out of
+    # range) extrapolated from two upper bands; times exp(Euler's gamma), the log-average
+    # of an exponential variable's periodogram lying that much below its mean
+    from sktiction.cycles._oscillation import _background
+
+    bins = np.arange(1, 2001.0)
+    power = np.r_[1.0, bins**-slope]
+    log_cum = np.concatenate([[0.0], np.cumsum(np.log(power))])
+    for k, k_min in ((60, 3.0), (30, 12.0)):  # both sides; lower side below k_min
+        expected = k**-slope * np.exp(np.euler_gamma)
+        assert _background(log_cum, k, k_min) == pytest.approx(expected, rel=0.1)
