@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from sktiction.datasets import list_loop_files, read_loop_file, read_loops
+from sktiction.datasets import _measured, list_loop_files, read_loop_file, read_loops
 
 
 def _write(path, text):
@@ -98,6 +98,7 @@ def test_skip_gives_every_named_path_a_row_with_its_status(tmp_path):
     assert meta["n_samples"].tolist() == [0, 0, 3]
     assert np.isnan(data.X[:2]).all() and data.X[2, :, 0].tolist() == [1, 2, 3]
     assert data.skipped.empty  # named directly: not skipped, reported
+    assert data.skipped.columns.tolist() == ["path", "reason"]
     with pytest.raises(ValueError, match=r"paths holds no files to read: \[\]"):
         read_loops([])
 
@@ -129,12 +130,12 @@ def test_channels_named_by_hand(tmp_path):
 
 
 def test_decimal_comma_and_missing_text_among_numbers(tmp_path):
-    f = _write(tmp_path / "a.csv",
-               "time;PV;OP;SP\n0;1,5;40;2\n10;Bad;41;2\n20;N/A;42;2\n30;1,7;NULL;2\n")  # fmt: skip
+    text = "time;PV;OP;SP\n0;1,5;40;2\n10;Bad;41;2\n20;NONE;42;2\n30;1,7;null;2\n"
+    f = _write(tmp_path / "a.csv", text)
     data = read_loop_file(f)
     np.testing.assert_array_equal(data.X[0, :, 0], [1.5, np.nan, np.nan, 1.7])
     np.testing.assert_array_equal(data.X[0, :, 1], [40, 41, 42, np.nan])
-    # N/A and NULL are how a historian writes "missing": read as NaN, not counted
+    # NONE and null are how a historian writes "missing": read as NaN, not counted
     assert data.meta.loc[0, "reason"] == "decimal comma; 1 text value in PV read as NaN ('Bad' x1)"
     assert data.meta.loc[0, "n_nan"] == 3
 
@@ -296,7 +297,8 @@ def test_a_historians_header_names_its_loop(tmp_path):
 
 def test_an_unreadable_file_has_one_empty_row_and_typed_meta(tmp_path):
     data = read_loop_file(tmp_path / "FIC1.csv")
-    assert data.X.shape == (1, 0, 3) and "frames" not in data
+    assert data.X.shape == (1, 0, 3) and data.X.dtype == np.float64 and "frames" not in data
+    assert data.channels == ("pv", "op", "sp")
     row = data.meta.iloc[0]
     assert data.meta.columns.tolist() == [
         "file", "path", "format", "tag", "isa", "loop_type", "ts", "n_samples", "n_nan",
@@ -327,3 +329,58 @@ def test_frames_of_a_file_without_times_and_missing_values_counted(tmp_path):
     np.testing.assert_array_equal(frame["sp"], [5, 5, 6])
     assert frame["op"].isna().all() and frame["mode"].isna().all()
     assert data.meta.loc[0, "n_nan"] == 1  # no OP column: only PV's gap counts
+
+
+def test_unexpected_failures_become_the_files_reason(tmp_path, monkeypatch):
+    f = _write(tmp_path / "FIC1.csv", "t,PV,OP\n0,1,2\n1,2,3\n")
+
+    def broken(path, kind):
+        raise RuntimeError("parser fell over")
+
+    monkeypatch.setattr(_measured, "open_table", broken)
+    data = read_loop_file(f)
+    assert data.X.shape == (1, 0, 3) and data.X.dtype == np.float64
+    assert data.meta.loc[0, ["status", "n_samples", "reason"]].tolist() == [
+        "error", 0, "could not be read (RuntimeError: parser fell over); please report this file"
+    ]  # fmt: skip
+
+    def denied(path, kind):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(_measured, "open_table", denied)
+    reason = read_loop_file(f).meta.loc[0, "reason"]
+    assert reason == "cannot open: Permission denied"
+
+
+def test_odd_values_and_bounds(tmp_path):
+    with pytest.raises(ValueError, match="time_unit must be one of"):
+        read_loop_file(tmp_path / "x.csv", time_unit="weeks")
+    # a comma in a file whose decimal mark is a point is no decimal mark
+    f = _write(tmp_path / "a.csv", 't,PV,OP\n0,"1,234",1\n1,Bad,2\n2,3.5,3\n')
+    data = read_loop_file(f)
+    np.testing.assert_array_equal(data.X[0, :, 0], [np.nan, np.nan, 3.5])
+    # exactly 1 % apart is not "more than 1 %"
+    g = _write(tmp_path / "b.csv", "t,PV,OP\n0,1,2\n101,2,3\n202,3,4\n")
+    assert read_loop_file(g, ts=100.0).meta.loc[0, "reason"] == ""
+    # text times are quoted in a strict error
+    h = _write(tmp_path / "c.csv", "t,PV,OP\n2024-01-01 10:00,1,2\n2024-01-01 10:00,2,3\n")
+    assert read_loop_file(h, strict=True).meta.loc[0, "reason"] == (
+        "timestamps are duplicated at data row 2 ('2024-01-01 10:00' then '2024-01-01 10:00')"
+    )
+
+
+def test_an_empty_table_has_no_data_rows(tmp_path):
+    pytest.importorskip("pyarrow")
+    pd.DataFrame({"t": [], "PV": [], "OP": []}).to_parquet(tmp_path / "FIC1.parquet")
+    assert read_loop_file(tmp_path / "FIC1.parquet").meta.loc[0, "reason"] == (
+        "file has no data rows"
+    )
+
+
+def test_each_loop_of_a_wide_file_holds_its_own_mode_when_resampled(tmp_path):
+    f = _write(tmp_path / "a.csv", "t,FIC1.PV,FIC1.OP,FIC1.MODE,FIC2.PV,FIC2.OP,FIC2.MODE\n"
+               "0,1,10,1,1,10,1\n1,2,20,1,2,20,1\n2,3,30,0,3,30,0\n3.5,4,40,1,4,40,1\n"
+               "4,5,50,1,5,50,1\n5,6,60,1,6,60,1\n")  # fmt: skip
+    frames = read_loop_file(f, return_frames=True).frames
+    assert [fr.loc[3, "mode"] for fr in frames] == [0.0, 0.0]
+    assert [fr.loc[3, "op"] for fr in frames] == pytest.approx([30 + 10 / 1.5] * 2)
