@@ -308,8 +308,8 @@ def test_units_and_offset_do_not_change_the_components():
     x = np.sin(2 * np.pi * t / 40) + 0.5 * np.random.default_rng(2).normal(size=t.size)
     for y in (1e-6 * x + 5e3, 1e4 * x):
         for a, b in zip(detect_oscillations(x), detect_oscillations(y), strict=True):
-            assert (b.period, b.index, b.cycle_acf, b.coherence) == pytest.approx(
-                (a.period, a.index, a.cycle_acf, a.coherence), rel=1e-6
+            assert (b.period, b.index, b.cycle_acf, b.coherence, b.share) == pytest.approx(
+                (a.period, a.index, a.cycle_acf, a.coherence, a.share), rel=1e-6
             )
 
 
@@ -396,3 +396,20 @@ def test_background_of_a_power_law_is_the_power_law(slope):
     for k, k_min in ((60, 3.0), (30, 12.0)):  # both sides; lower side below k_min
         expected = k**-slope * np.exp(np.euler_gamma)
         assert _background(log_cum, k, k_min) == pytest.approx(expected, rel=0.1)
+
+
+def test_components_stay_within_the_searched_periods():
+    # 5 samples to 3.5 cycles per record, each component's ACF period within a factor
+    # exp(0.3) of its spectral peak's: cycles outside the range give no component there
+    n = 2000
+    t = np.arange(n)
+    noise = 0.01 * np.random.default_rng(0).normal(size=n)
+    for cycles_per_record in (2.2, n / 3):  # too slow; too fast (3 samples per cycle)
+        x = np.sin(2 * np.pi * t * cycles_per_record / n) + noise
+        for c in detect_oscillations(x):
+            assert 5 / np.exp(0.3) <= c.period <= n / 3.5 * np.exp(0.3)
+    for seed in range(3):  # also the components whose ACFs were not computed
+        for c in detect_oscillations(np.random.default_rng(seed).normal(size=n)):
+            assert 5 / np.exp(0.3) <= c.period <= n / 3.5 * np.exp(0.3)
+    sine = detect_oscillations(np.sin(2 * np.pi * t / 40))
+    assert len(sine) == 1 and 0.95 < sine[0].share <= 1  # all its power in its band
