@@ -11,7 +11,7 @@ from sktiction._validation import repair_gaps
 from sktiction.datasets import read_loop_file
 from sktiction.reports import _stream, scan_files, scan_loops
 from sktiction.reports import scan as scan_module
-from sktiction.reports.scan import REPORT_COLUMNS
+from sktiction.reports.scan import REPORT_COLUMNS, _applicability_gate
 
 GAP_COLUMNS = ["n_bridged", "n_gaps_split", "kept_start", "kept_stop"]
 
@@ -87,7 +87,11 @@ def test_the_stream_gives_scan_loops_report_in_file_order(site):
     assert report.loc[bad, "reason"].tolist() == report.loc[bad, "input_reason"].tolist()
     assert "PV column 'TIC5.PV' holds no numbers" in report.loc[4, "reason"]
     assert report.loc[bad, ["stiction_probability", "area_ratio", "n_cycles"]].isna().all().all()
-    assert not set(GAP_COLUMNS) & set(report.columns)  # no repair asked for
+    # the reader's columns (its status and reason renamed), then the scan's
+    assert report.columns.tolist() == [
+        "file", "path", "format", "tag", "isa", "loop_type", "ts", "n_samples", "n_nan",
+        "auto_fraction", "start", "input_status", "input_reason", *REPORT_COLUMNS,
+    ]  # fmt: skip
     # the readable loops, read one by one, padded and scanned in memory
     datas = [read_loop_file(site / f, ts=1.0) for f in FILES[:4] + FILES[5:6]]
     X = np.full((6, 1200, 3), np.nan)
@@ -186,3 +190,26 @@ def test_a_dask_cluster_reads_and_scans_the_files(site):
         remote = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0, client=client)
     pd.testing.assert_frame_equal(remote, local)
     assert list(local.columns[-len(REPORT_COLUMNS) :]) == REPORT_COLUMNS
+
+
+def test_an_explicit_gap_limit_and_a_one_row_file(site, tmp_path):
+    report = scan_files(site, classifier=Spread(), ts=1.0, max_gap=1)
+    row = report.iloc[2]  # FIC003: two missing samples are more than 1: the record splits
+    assert row[GAP_COLUMNS].tolist() == [0, 1, 402, 1200]
+    assert row["status"] == "ok"
+    (tmp_path / "FIC9.csv").write_text("PV,OP\n1,2\n")
+    one = scan_files(tmp_path, classifier=Spread(), ts=1.0)
+    assert one.loc[0, ["input_status", "status"]].tolist() == ["ok", "too_short"]
+
+
+def test_the_applicability_gate_is_applied_to_files(tmp_path, monkeypatch):
+    monkeypatch.setattr(scan_module, "_applicability_gate", _applicability_gate)
+    monkeypatch.setattr(_stream, "_applicability_gate", _applicability_gate)
+    rng = np.random.default_rng(0)
+    pv, op = square(3.0, 1200)
+    _csv(tmp_path / "FIC1.csv", {"t": np.arange(1200), "PV": pv, "OP": op})
+    _csv(tmp_path / "FIC2.csv", {"t": np.arange(1200), "PV": rng.normal(size=1200),
+                                 "OP": rng.normal(size=1200)})  # fmt: skip
+    report = scan_files(tmp_path, classifier=Spread())
+    assert report["verdict"].tolist() == ["stiction", "no_verdict"]
+    assert report["reason"].tolist() == ["ok", "pv_op_unrelated"]
