@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from sklearn.base import clone
+from sklearn.compose import ColumnTransformer
 from sklearn.impute import SimpleImputer
 from sklearn.linear_model import LogisticRegression
 from sklearn.pipeline import FeatureUnion, Pipeline
@@ -306,7 +307,14 @@ def pipelines(loops):
     weighted = make(("features", FeatureUnion(parts, transformer_weights={"area": 50.0})))
     raw = FunctionTransformer(lambda Z: Z[:, :3, 0])  # three PV samples, no loop analysis
     mixed = make(("features", FeatureUnion([("area", AreaRatio()), ("raw", raw)])))
-    return {"shared": shared, "single": single, "weighted": weighted, "mixed": mixed}
+    # a step that picks features by name needs the union's pandas output
+    pick = ColumnTransformer([("ratio", "passthrough", ["area__area_ratio"])])
+    steps = [("features", FeatureUnion(parts).set_output(transform="pandas")),
+             ("pick", pick), ("fill", SimpleImputer(keep_empty_features=True)),
+             ("model", LogisticRegression())]  # fmt: skip
+    named = Pipeline(steps).fit(X, y)
+    return {"shared": shared, "single": single, "weighted": weighted, "mixed": mixed,
+            "named": named}  # fmt: skip
 
 
 def _probability(pipe, X, **kwargs):
@@ -327,13 +335,15 @@ def test_a_pipeline_of_loop_transformers_reads_the_shared_analyses(loops, pipeli
         p, ok = _probability(pipelines[name], X, chunk_size=5)
         np.testing.assert_allclose(p[ok], expected[name][ok], rtol=1e-9)
         assert len(set(np.round(p[ok], 6))) >= 3  # the features reach the model
-    # weights, or a step that is not a loop transformer: the pipeline runs on the loops
-    for name in ("weighted", "mixed"):
+    # weights, a step that is not a loop transformer, or pandas output (a later step may
+    # pick columns by name): the pipeline runs on the loops
+    for name in ("weighted", "mixed", "named"):
         p, _ = _probability(pipelines[name], X)
         assert np.isnan(p).all()  # every loop's own transform failed (no_transform)
     monkeypatch.undo()
-    for name in ("weighted", "mixed"):
+    for name in ("weighted", "mixed", "named"):
         p, ok = _probability(pipelines[name], X)
+        assert ok.sum() == 6  # all but the gap and the missing OP
         np.testing.assert_allclose(p[ok], expected[name][ok], rtol=1e-9)
 
 
