@@ -154,6 +154,7 @@ def test_a_file_the_reader_chokes_on_gets_an_error_row(site, monkeypatch):
         "FIC002.csv", "error", "unreadable", "no_verdict"
     )  # fmt: skip
     assert row["reason"] == "RuntimeError: disk on fire"
+    assert row["path"] == str(site / "FIC002.csv")
     assert report["file"].tolist() == FILES
     assert report["status"].tolist()[:4] == ["ok", "unreadable", "ok", "ok"]
 
@@ -210,6 +211,8 @@ def test_the_applicability_gate_is_applied_to_files(tmp_path, monkeypatch):
     _csv(tmp_path / "FIC1.csv", {"t": np.arange(1200), "PV": pv, "OP": op})
     _csv(tmp_path / "FIC2.csv", {"t": np.arange(1200), "PV": rng.normal(size=1200),
                                  "OP": rng.normal(size=1200)})  # fmt: skip
+    (tmp_path / "A_notes.doc").write_text("not a loop file, listed first")
     report = scan_files(tmp_path, classifier=Spread())
-    assert report["verdict"].tolist() == ["stiction", "no_verdict"]
-    assert report["reason"].tolist() == ["ok", "pv_op_unrelated"]
+    assert report["file"].tolist() == ["A_notes.doc", "FIC1.csv", "FIC2.csv"]
+    assert report["verdict"].tolist() == ["no_verdict", "stiction", "no_verdict"]
+    assert report["reason"].tolist()[1:] == ["ok", "pv_op_unrelated"]
