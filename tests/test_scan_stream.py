@@ -169,14 +169,20 @@ def test_bad_arguments_and_empty_folders(tmp_path):
     assert "folder holds no readable loop file" in report.loc[0, "reason"]
 
 
-def test_defaults_the_pretrained_model_and_shows_progress_per_file(site, monkeypatch, capsys):
+def test_no_classifier_means_the_pretrained_one(site, monkeypatch):
     monkeypatch.setattr(_stream, "pretrained_classifier", Spread)
     files = [site / "FIC001.csv", site / "notes.doc"]
-    got = scan_files(files, progress=True)
-    assert "2/2" in capsys.readouterr().err
+    got = scan_files(files)
     pd.testing.assert_frame_equal(got, scan_files(files, classifier=Spread()))
-    assert capsys.readouterr().err == ""
     assert got.loc[0, "verdict"] == "stiction"
+
+
+def test_progress_is_shown_per_file_only_when_asked(site, capsys):
+    files = [site / "FIC001.csv", site / "notes.doc"]
+    scan_files(files, classifier=Spread(), progress=True)
+    assert "2/2" in capsys.readouterr().err
+    scan_files(files, classifier=Spread())
+    assert capsys.readouterr().err == ""
 
 
 def test_a_dask_cluster_reads_and_scans_the_files(site):
