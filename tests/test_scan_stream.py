@@ -3,6 +3,8 @@ row per loop in file order, gaps bridged, and a row with the reason for every fi
 that cannot be read. A stand-in model (probability a known function of PV) keeps it fast.
 """
 
+import re
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -180,7 +182,8 @@ def test_no_classifier_means_the_pretrained_one(site, monkeypatch):
 def test_progress_is_shown_per_file_only_when_asked(site, capsys):
     files = [site / "FIC001.csv", site / "notes.doc"]
     scan_files(files, classifier=Spread(), progress=True)
-    assert "2/2" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "2/2" in err and re.search(r"[\d?]file/s", err)  # advanced per file
     scan_files(files, classifier=Spread())
     assert capsys.readouterr().err == ""
 
@@ -194,7 +197,10 @@ def test_a_dask_cluster_reads_and_scans_the_files(site):
         worker_dashboard_address=None,
     )  # fmt: skip
     with one_worker as cluster, distributed.Client(cluster) as client:
-        remote = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0, client=client)
+        with distributed.get_task_stream(client) as stream:
+            remote = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0, client=client)
+        # the chunks ran on the cluster, not here
+        assert any(t["key"].startswith("sktiction-scan") for t in stream.data)
     pd.testing.assert_frame_equal(remote, local)
     assert list(local.columns[-len(REPORT_COLUMNS) :]) == REPORT_COLUMNS
 

@@ -409,8 +409,11 @@ def test_a_dask_cluster_gives_the_local_report(loops, report):
         worker_dashboard_address=None,
     )  # fmt: skip
     with one_worker as cluster, distributed.Client(cluster) as client:
-        got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=Spread(),
-                         chunk_size=3, client=client, progress=True)  # fmt: skip
+        with distributed.get_task_stream(client) as stream:
+            got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=Spread(),
+                             chunk_size=3, client=client, progress=True)  # fmt: skip
+        # the chunks ran on the cluster, not here
+        assert any(t["key"].startswith("sktiction-scan") for t in stream.data)
     pd.testing.assert_frame_equal(got, report)
 
 
