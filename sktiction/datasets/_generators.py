@@ -77,18 +77,11 @@ def _frequency_grid(n_grid):
     return grid
 
 
-def _phase_crossover(plant, kc, ti, ts, n_grid=600):
-    """Phase-crossover frequency ``w180`` of the sampled PI loop and the gain margin there.
-
-    The hold adds ``ts / 2`` of delay; the controller sign makes the DC loop gain positive.
-    """
-    w180, margin = _phase_crossovers([plant], [kc], [ti], np.array([float(ts)]), n_grid)
-    return w180[0], margin[0]
-
-
 def _phase_crossovers(plants, kc, ti, ts, n_grid):
-    """:func:`_phase_crossover` of many loops, frequency responses computed in batches of
-    plants with the same number of states (each loop's numbers as if computed alone).
+    """Phase-crossover frequency ``w180`` of each sampled PI loop and its gain margin there
+    (the hold adds ``ts / 2`` of delay; the controller sign makes the DC loop gain
+    positive), frequency responses computed in batches of plants with the same number of
+    states (each loop's numbers as if computed alone).
 
     The loops cross -180 degrees at 50-75 % of the grid, so the first three quarters are
     searched first and the rest only for loops not found there: the unwrapped phase over
@@ -138,11 +131,12 @@ def _phase_crossovers(plants, kc, ti, ts, n_grid):
         return np.array(left, dtype=int)
 
     first = max(2, (3 * n_grid) // 4)
-    # batches of at most 128 loops: a few MB of complex frequency responses each
     for n in np.unique(n_states):
         group = np.flatnonzero(n_states == n)
-        for lo in range(0, len(group), 128):
-            left = search(group[lo : lo + 128], first)
+        # the solve holds (loops, grid, n, n) complex numbers: about 16 MB a batch at most
+        step = int(np.clip(2**20 // (n_grid * n * n), 1, 128))
+        for lo in range(0, len(group), step):
+            left = search(group[lo : lo + step], first)
             if len(left) and first < n_grid:
                 search(left, n_grid)
     return w180, margin

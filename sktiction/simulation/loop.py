@@ -17,133 +17,21 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 from scipy.linalg import expm
 from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, check_positive, check_random_state_seed
+from ._kernel import N_PARAMS, STATE_SIZE, _run_loops
 from ._threads import single_blas_thread
 from .controllers import PIController
 from .effects import EXOGENOUS_KEYS, Effect
 from .plants import _Plant
-from .valves import (
-    _DIR,
-    _SPREV,
-    _STUCK,
-    _UPREV,
-    _USTICK,
-    _Y,
-    N_PARAMS,
-    STATE_SIZE,
-    _Valve,
-    _valve_update,
-)
+from .valves import _Valve
 
 __all__ = ["simulate_loop", "simulate_loops"]
 
 # Fallback reference for SNR-specified noise when the noise-free pilot PV does not move.
 _DEFAULT_REFERENCE_STD = 1.0
-
-
-@njit(cache=True)
-def _run_loops(
-    A, B0, B1, C, nxs, delay, kcs, ti, td, ts, op_lo, op_hi, op0, pv_eq,
-    kinds, vpar, vstate, sp, out_load, in_load, noise, noise_rel, ref, rows, start, X, valve,
-):  # fmt: skip
-    """Simulate loops ``rows``: loop ``rows[r]`` into ``X[r]`` and ``valve[r]``.
-
-    Inputs are indexed by loop, outputs by position in ``rows``. The loop runs
-    ``start + X.shape[1]`` samples and stores those from ``start`` on (``valve`` may
-    have no columns: not stored). The measurement noise is ``noise + noise_rel * ref``.
-    """
-    n_rows = rows.shape[0]
-    n = start + X.shape[1]
-    keep_valve = valve.shape[1] > 0
-    x = np.zeros(A.shape[1])
-    xn = np.zeros(A.shape[1])
-    # exogenous inputs are (n_loops, n) or (n_loops, 1): step 1 or 0 through time
-    dsp = 1 if sp.shape[1] > 1 else 0
-    dol = 1 if out_load.shape[1] > 1 else 0
-    dil = 1 if in_load.shape[1] > 1 else 0
-    dno = 1 if noise.shape[1] > 1 else 0
-    dnr = 1 if noise_rel.shape[1] > 1 else 0
-    for r in range(n_rows):
-        j = rows[r]
-        nx = nxs[j]
-        x[:] = 0.0
-        m = delay[j]
-        nb = m + 2
-        buf = np.zeros(nb)
-        head = 0  # buf[head] receives w[k]; buf[(head + m) % nb] holds w[k-m]
-        # the valve's parameters and state in local variables (see _valve_update)
-        kind = kinds[j]
-        p0 = vpar[j, 0]
-        p1 = vpar[j, 1]
-        yv = vstate[j, _Y]
-        uprev = vstate[j, _UPREV]
-        sprev = vstate[j, _SPREV]
-        stuck = vstate[j, _STUCK]
-        direction = vstate[j, _DIR]
-        ustick = vstate[j, _USTICK]
-        kp = kcs[j]
-        ki = kcs[j] * ts[j] / ti[j]
-        kd = kcs[j] * td[j] / ts[j]
-        lo = op_lo[j]
-        hi = op_hi[j]
-        u = op0[j]
-        ueq = op0[j]
-        peq = pv_eq[j]
-        scale = ref[j]
-        # steady state before the first sample: zero error, PV at equilibrium
-        e1 = 0.0
-        pv1 = peq
-        pv2 = peq
-        for k in range(n):
-            y = 0.0
-            for i in range(nx):
-                y += C[j, i] * x[i]
-            nz = noise[j, k * dno] + noise_rel[j, k * dnr] * scale
-            p = peq + y + out_load[j, k * dol] + nz
-            e = sp[j, k * dsp] - p
-            u += kp * (e - e1) + ki * e - kd * (p - 2.0 * pv1 + pv2)
-            if u > hi:
-                u = hi
-            elif u < lo:
-                u = lo
-            yv, sprev, stuck, direction, ustick = _valve_update(
-                kind, p0, p1, yv, uprev, sprev, stuck, direction, ustick, u
-            )
-            uprev = u
-            v = yv
-            if k >= start:
-                X[r, k - start, 0] = p
-                X[r, k - start, 1] = u
-                X[r, k - start, 2] = sp[j, k * dsp]
-                if keep_valve:
-                    valve[r, k - start] = v
-            e1 = e
-            pv2 = pv1
-            pv1 = p
-            buf[head] = v + in_load[j, k * dil] - ueq
-            i0 = head + m
-            if i0 >= nb:
-                i0 -= nb
-            i1 = i0 + 1
-            if i1 >= nb:
-                i1 -= nb
-            # samples before the start were at equilibrium (zeros in buf)
-            w0 = buf[i0]
-            w1 = buf[i1]
-            for i in range(nx):
-                acc = B0[j, i] * w0 + B1[j, i] * w1
-                for q in range(nx):
-                    acc += A[j, i, q] * x[q]
-                xn[i] = acc
-            for i in range(nx):
-                x[i] = xn[i]
-            head -= 1
-            if head < 0:
-                head += nb
 
 
 def _as_list(obj, n, name):

@@ -1,9 +1,9 @@
 """Control valve models: healthy, deadband and four stiction models.
 
 Each valve is a small parameter holder; the stepping itself is one compiled
-function, ``_valve_update``, selected by an integer ``kind`` so that the
+function, ``_kernel._valve_update``, selected by an integer ``kind`` so that the
 closed loop can run every valve type inside one numba kernel (which keeps the
-state in local variables; :func:`valve_step` steps a state array). Positions
+state in local variables; ``_kernel.valve_step`` steps a state array). Positions
 and parameters are in % of the valve span.
 
 State vector (``STATE_SIZE`` floats):
@@ -13,7 +13,6 @@ State vector (``STATE_SIZE`` floats):
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 from .._validation import check_positive
 
@@ -28,10 +27,21 @@ __all__ = [
     "VALVE_MODELS",
 ]
 
-LINEAR, RELAY, CHOUDHURY, KANO, DEADBAND, HE = 0, 1, 2, 3, 4, 5
-N_PARAMS = 2
-STATE_SIZE = 6
-_Y, _UPREV, _SPREV, _STUCK, _DIR, _USTICK = range(STATE_SIZE)
+from ._kernel import (
+    _STUCK,
+    _UPREV,
+    _USTICK,
+    _Y,
+    CHOUDHURY,
+    DEADBAND,
+    HE,
+    KANO,
+    LINEAR,
+    N_PARAMS,
+    RELAY,
+    STATE_SIZE,
+    _valve_run,
+)
 
 
 class _Valve:
@@ -312,107 +322,3 @@ def make_valve(model, **params):
     if model not in VALVE_MODELS:
         raise ValueError(f"valve model must be one of {sorted(VALVE_MODELS)}; got {model!r}.")
     return VALVE_MODELS[model](**params)
-
-
-@njit(cache=True, inline="always")
-def _sign(v):
-    if v > 0:
-        return 1.0
-    if v < 0:
-        return -1.0
-    return 0.0
-
-
-@njit(cache=True, inline="always")
-def _valve_update(kind, p0, p1, y, uprev, sprev, stuck, direction, ustick, u):
-    """One valve step on scalars: the parameters, the state ``[y, u_prev, du_sign_prev,
-    stuck, direction, u_stick]`` and the input; returns the new position, ``du_sign_prev``,
-    ``stuck``, ``direction`` and ``u_stick`` (``u_prev`` becomes ``u``).
-
-    The closed-loop kernel keeps the state in local variables: no array is passed per
-    sample (a call with array arguments costs more than most models' arithmetic).
-    """
-    if kind == LINEAR:
-        y = u
-    elif kind == RELAY:
-        if abs(u - y) > p0:
-            y = u
-    elif kind == DEADBAND:
-        half = 0.5 * p0
-        if u - y > half:
-            y = u - half
-        elif y - u > half:
-            y = u + half
-    elif kind == CHOUDHURY:
-        S = p0
-        J = p1
-        s = _sign(u - uprev)
-        if s != sprev:
-            # velocity changed sign or vanished: the valve sticks here
-            stuck = 1.0
-            ustick = uprev
-        if stuck == 0.0:
-            y = u - s * 0.5 * (S - J)
-        elif s != 0.0:
-            thr = J if s == direction else S
-            if abs(u - ustick) > thr:
-                y = u - s * 0.5 * (S - J)
-                stuck = 0.0
-                direction = s
-        sprev = s
-    elif kind == KANO:
-        S = p0
-        J = p1
-        du = u - uprev
-        if du * sprev <= 0.0 and stuck == 0.0:
-            # a moving valve stops or reverses: remember where
-            ustick = uprev
-            stuck = 1.0
-        d = direction
-        if stuck == 0.0:
-            y = u - d * 0.5 * (S - J)
-        elif d == 0.0:
-            if abs(u - ustick) > S:
-                d = _sign(u - ustick)
-                y = u - d * 0.5 * (S - J)
-                stuck = 0.0
-        elif -d * (u - ustick) > S:
-            d = -d
-            y = u - d * 0.5 * (S - J)
-            stuck = 0.0
-        elif d * (u - ustick) > J:
-            y = u - d * 0.5 * (S - J)
-            stuck = 0.0
-        direction = d
-        sprev = du
-    elif kind == HE:
-        # the residual force u - y moves the valve once it beats static friction
-        r = u - y
-        if abs(r) > p0:
-            y = u - _sign(r) * p1
-    y = min(max(y, 0.0), 100.0)
-    return y, sprev, stuck, direction, ustick
-
-
-@njit(cache=True)
-def valve_step(kind, par, st, u):
-    """Advance one valve by one sample; ``st`` is updated in place, returns the position."""
-    y, sprev, stuck, direction, ustick = _valve_update(
-        kind, par[0], par[1], st[_Y], st[_UPREV], st[_SPREV], st[_STUCK], st[_DIR],
-        st[_USTICK], u,
-    )  # fmt: skip
-    st[_Y] = y
-    st[_UPREV] = u
-    st[_SPREV] = sprev
-    st[_STUCK] = stuck
-    st[_DIR] = direction
-    st[_USTICK] = ustick
-    return y
-
-
-@njit(cache=True)
-def _valve_run(kind, par, st, u):
-    out = np.empty(u.shape[0])
-    for k in range(u.shape[0]):
-        out[k] = valve_step(kind, par, st, u[k])
-    return out
