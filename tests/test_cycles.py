@@ -440,3 +440,8 @@ def test_components_stay_strongest_first_after_the_cycles_evidence():
     index = [c.index for c in a.components]
     assert index == sorted(index, reverse=True)
     assert a.periods.tolist() == [c.period for c in a.components if c.index > 0.5]
+    # this record is one where the evidence lifts a component over another, so the order
+    # above is the re-sort's work, not the detector's
+    detected = [round(c.period) for c in detect_oscillations(x)]
+    assert detected != [round(c.period) for c in a.components]
+    assert sorted(detected) == sorted(round(c.period) for c in a.components)

@@ -16,7 +16,7 @@ from sktiction.cycles._signal import first_lobe
 
 def test_noise_std_of_white_noise_and_of_records_too_short():
     rng = np.random.default_rng(0)
-    # the MAD of 100 000 second differences is within 1 % of its limit
+    # the MAD of 100 000 second differences is within 2 % of its limit
     assert noise_std(rng.normal(0, 0.3, 100_000)) == pytest.approx(0.3, rel=0.02)
     # a straight line has no second differences but zeros; a step only one large one
     assert noise_std(5 + 2 * np.arange(50)) == 0.0
