@@ -330,8 +330,11 @@ def test_held_samples_are_filled_by_straight_lines():
     assert filled[:-1] == pytest.approx(np.arange(79) / 2)  # the last has no next change
     few = np.r_[held[:6], 3 + np.arange(74.0)]  # 3 repeats among 79 steps (3.8 %)
     assert _fill_repeats(few) is few  # left alone
-    few = np.r_[held[:8], 4 + np.arange(72.0)]  # 4 repeats (5.1 %): filled
+    few = np.r_[held[:8], 4 + np.arange(73.0)]  # 4 repeats among 80 steps (5 %): filled
     assert _fill_repeats(few)[:8] == pytest.approx(np.arange(8) / 2)
+    eight = np.repeat(np.arange(8.0), 3)  # eight changes are enough to draw lines through
+    assert _fill_repeats(eight)[:-3] == pytest.approx(np.arange(21) / 3)
+    assert np.array_equal(_fill_repeats(eight[:-3]), eight[:-3])  # seven: left as recorded
 
 
 def test_harmonics_of_a_saw_tooth_are_not_components():
@@ -413,3 +416,24 @@ def test_components_stay_within_the_searched_periods():
             assert 5 / np.exp(0.3) <= c.period <= n / 3.5 * np.exp(0.3)
     sine = detect_oscillations(np.sin(2 * np.pi * t / 40))
     assert len(sine) == 1 and 0.95 < sine[0].share <= 1  # all its power in its band
+
+
+def _spectrum(peaks, size=400):
+    """A flat spectrum with one-bin peaks {bin: height}."""
+    s = np.full(size, 1e-3)
+    for k, height in peaks.items():
+        s[k] = height
+    return s
+
+
+def test_candidates_are_peaks_of_the_spectrum_and_of_its_slope():
+    from sktiction.cycles._oscillation import _candidates
+
+    # the ripples of one broad peak (within 15 %) are one candidate; the next peaks count,
+    # highest first
+    ripples = _spectrum({300: 10.0, 310: 9.0, 320: 8.0, 100: 5.0, 200: 1.0})
+    assert _candidates(ripples, 20, 390, 2) == [300, 100]
+    # the highest peak, and the highest peak times f**2 (the first difference's spectrum):
+    # 10 * 100**2 beats 40 * 40**2 and 0.5 * 300**2
+    three = _spectrum({40: 40.0, 100: 10.0, 300: 0.5})
+    assert _candidates(three, 20, 390, 1) == [40, 100]
