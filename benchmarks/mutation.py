@@ -91,6 +91,8 @@ TARGETED = {
     "sktiction/features/dtw.py": ["tests/test_templates.py"],
     "sktiction/features/templates.py": ["tests/test_templates.py"],
     "sktiction/features/_loops.py": ["tests/test_features_loops.py", "tests/test_templates.py"],
+    "sktiction/cycles/_oscillation.py": ["tests/test_oscillation.py", "tests/test_cycles.py"],
+    "sktiction/features/oscillation.py": ["tests/test_oscillation.py"],
     "sktiction/features/area_ratio.py": [
         "tests/test_area_ratio.py",
         f"{_CHECKS}::test_area_ratio_of_known_half_cycles",
@@ -200,6 +202,7 @@ def _configure(workdir, globs, tests):
         print(f"tests not in this tree, left out: {missing}")
     conf = {
         "source_paths": ["sktiction"],
+        "also_copy": ["benchmarks"],  # some tests load a benchmark's helpers
         "only_mutate": globs,
         "pytest_add_cli_args_test_selection": existing,
         "pytest_add_cli_args": ["-p", "no:cacheprovider", "-x", "-q"],
