@@ -345,6 +345,7 @@ def test_a_pipeline_of_loop_transformers_reads_the_shared_analyses(loops, pipeli
     monkeypatch.setattr(LoopTransformer, "transform", no_transform)
     for name in ("shared", "single", "short"):
         p, ok = _probability(pipelines[name], X, chunk_size=5)
+        assert ok.sum() == 6  # no loop failed in the model's steps
         np.testing.assert_allclose(p[ok], expected[name][ok], rtol=1e-9)
         assert len(set(np.round(p[ok], 6))) >= 2  # the features reach the model
     # weights, a step that is not a loop transformer, or pandas output (a later step may
