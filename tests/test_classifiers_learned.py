@@ -323,13 +323,15 @@ def test_shared_analyses_give_the_same_verdicts_in_any_op_units(data, model):
     expected = model.diagnose(loops)
     got = model.diagnose_analysed(loops, analyse_loops(loops))
     np.testing.assert_array_equal(got["reason"], expected["reason"])
-    close = np.abs(got["probability"] - expected["probability"]) <= 1e-9
-    assert close.mean() >= 0.8
+    # equal to rounding; a cycle decision sitting on its threshold in a quantised record
+    # may flip between raw and normalised loops (README: up to 0.03 on about 2 % of loops)
+    diff = np.abs(got["probability"] - expected["probability"])
+    assert (diff <= 1e-9).mean() >= 0.8 and diff.max() <= 0.05
     scaled = loops.copy()
     scaled[:, :, 1] = 1e3 * scaled[:, :, 1] + 5  # the fitted band is in OP units
     again = model.diagnose_analysed(scaled, analyse_loops(scaled))
-    close = np.abs(again["probability"] - got["probability"]) <= 1e-6
-    assert close.mean() >= 0.8
+    diff = np.abs(again["probability"] - got["probability"])
+    assert (diff <= 1e-6).mean() >= 0.8 and diff.max() <= 0.05
 
 
 def test_features_in_parallel_chunks_are_the_same(data, model):

@@ -44,6 +44,8 @@ def test_source_hash_changes_with_any_source_file(tmp_path):
     assert one != persistence.source_hash(tmp_path, [])
     (pkg / "single.py").write_text("z = 4\n")
     assert persistence.source_hash(tmp_path, ["pkg/single.py"]) != one
+    both = persistence.source_hash(tmp_path, ["pkg/a.py", "pkg/single.py"])
+    assert both != persistence.source_hash(tmp_path, ["pkg/single.py", "pkg/a.py"])
 
 
 def test_runtime_versions_are_this_interpreters():
