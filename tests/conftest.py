@@ -20,3 +20,16 @@ def _valve_walk(band=2.0, n=3000, seed=0):
 def valve_walk():
     """:func:`_valve_walk`: ``valve_walk(band=2.0, n=3000, seed=0) -> (pv, op)``."""
     return _valve_walk
+
+
+@pytest.fixture
+def dask_client():
+    """A client of a one-worker in-process dask cluster (dashboards on free ports: 8787 may
+    be taken by another cluster); skips without ``distributed``."""
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0",
+        worker_dashboard_address=None,
+    )  # fmt: skip
+    with cluster, distributed.Client(cluster) as client:
+        yield client

@@ -188,19 +188,14 @@ def test_progress_is_shown_per_file_only_when_asked(site, capsys):
     assert capsys.readouterr().err == ""
 
 
-def test_a_dask_cluster_reads_and_scans_the_files(site):
-    distributed = pytest.importorskip("distributed")
+def test_a_dask_cluster_reads_and_scans_the_files(site, dask_client):
+    from distributed import get_task_stream
+
     local = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0)
-    # one in-process worker; dashboards on a free port (8787 may be taken)
-    one_worker = distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0",
-        worker_dashboard_address=None,
-    )  # fmt: skip
-    with one_worker as cluster, distributed.Client(cluster) as client:
-        with distributed.get_task_stream(client) as stream:
-            remote = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0, client=client)
-        # the chunks ran on the cluster, not here
-        assert any(t["key"].startswith("sktiction-scan") for t in stream.data)
+    with get_task_stream(dask_client) as stream:
+        remote = scan_files(site, classifier=Spread(), chunk_size=3, ts=1.0, client=dask_client)
+    # the chunks ran on the cluster, not here
+    assert any(t["key"].startswith("sktiction-scan") for t in stream.data)
     pd.testing.assert_frame_equal(remote, local)
     assert list(local.columns[-len(REPORT_COLUMNS) :]) == REPORT_COLUMNS
 

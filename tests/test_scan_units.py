@@ -401,20 +401,15 @@ def test_the_progress_bar_is_shown_only_when_asked(loops, capsys):
     assert re.search(r"[\d?]loop/s", err)  # the rate in loops per second
 
 
-def test_a_dask_cluster_gives_the_local_report(loops, report):
-    distributed = pytest.importorskip("distributed")
+def test_a_dask_cluster_gives_the_local_report(loops, report, dask_client):
+    from distributed import get_task_stream
+
     X, types = loops
-    # one in-process worker; dashboards on a free port (8787 may be taken)
-    one_worker = distributed.LocalCluster(
-        n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0",
-        worker_dashboard_address=None,
-    )  # fmt: skip
-    with one_worker as cluster, distributed.Client(cluster) as client:
-        with distributed.get_task_stream(client) as stream:
-            got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=Spread(),
-                             chunk_size=3, client=client, progress=True)  # fmt: skip
-        # the chunks ran on the cluster, not here
-        assert any(t["key"].startswith("sktiction-scan") for t in stream.data)
+    with get_task_stream(dask_client) as stream:
+        got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=Spread(),
+                         chunk_size=3, client=dask_client, progress=True)  # fmt: skip
+    # the chunks ran on the cluster, not here
+    assert any(t["key"].startswith("sktiction-scan") for t in stream.data)
     pd.testing.assert_frame_equal(got, report)
 
 
