@@ -157,7 +157,8 @@ def normalise_loops(loops):
 
     PV and SP share one scale so that the control error keeps its meaning. The IQR
     ignores spikes and setpoint steps; it falls back to the standard deviation when
-    more than half of the samples sit on one value (a frozen historian record).
+    the interquartile range is zero (both quartiles on one value, as in a mostly frozen
+    historian record).
 
     Parameters
     ----------
