@@ -68,11 +68,9 @@ def _span(x):
     t = v - i
     i = i.astype(np.intp)
     x.partition(np.unique(np.concatenate([i, i + 1])))  # x is a copy already
-    lo, hi = (
-        a + d * g if g < 0.5 else b - d * (1 - g)
-        for a, b, g in zip(x[i], x[i + 1], t, strict=True)
-        for d in [b - a]
-    )
+    a, b = x[i], x[i + 1]
+    d = b - a
+    lo, hi = np.where(t < 0.5, a + d * t, b - d * (1 - t))  # numpy's lerp
     return float(hi - lo)
 
 
