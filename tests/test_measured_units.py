@@ -225,6 +225,12 @@ def test_date_and_time_columns_and_the_historians_time_format(tmp_path):
     meta = read_loop_file(hist).meta
     assert meta.loc[0, "status"] == "ok", meta.loc[0, "reason"]
     assert str(meta.loc[0, "start"]) == "2024-01-02 10:00:00" and meta.loc[0, "ts"] == 10.0
+    # a declared day-first pattern is the file's word: read day first, without the note
+    # that the order was guessed
+    hist = _write(tmp_path / "FIC8.txt", text.replace("MM/dd/yyyy", "dd/MM/yyyy"))
+    meta = read_loop_file(hist).meta
+    assert str(meta.loc[0, "start"]) == "2024-02-01 10:00:00", meta.loc[0, "reason"]
+    assert "day/month or month/day" not in meta.loc[0, "reason"]
 
 
 def test_resampling_holds_the_mode_and_strict_only_reports(tmp_path):

@@ -147,8 +147,9 @@ def _text_times(raw, time_format):
         fmt = candidates[best]
     notes = []
     stamps = _parse_all(raw, fmt, clean)
-    if "%d/%m" in fmt:
-        # The sample may hold only days <= 12: the whole column settles the order.
+    if "%d/%m" in fmt and fmt != time_format:
+        # The sample may hold only days <= 12: the whole column settles the order. A
+        # format the file declares is its word on the order: no guess, no note.
         other = fmt.replace("%d/%m", "%m/%d")
         if stamps.isna().sum() > raw.isna().sum():
             swapped = _parse_all(raw, other, clean)
