@@ -104,12 +104,55 @@ def _regular_runs(periods, tolerance):
         return []
     if n < 3:
         local = np.full(n, np.median(periods))
-    else:  # reflect, so a stray first or last cycle is judged by its neighbours
-        padded = np.pad(periods, 2, mode="reflect")
-        local = np.median(np.lib.stride_tricks.sliding_window_view(padded, 5), axis=1)
-    regular = np.abs(periods - local) <= tolerance * local
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], regular.astype(int), [0]])))
-    return list(zip(edges[::2], edges[1::2]))
+        regular = np.abs(periods - local) <= tolerance * local
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], regular.astype(int), [0]])))
+        return list(zip(edges[::2], edges[1::2]))
+    # reflect, so a stray first or last cycle is judged by its neighbours
+    runs = _runs_of_regular(np.asarray(periods, dtype=float), float(tolerance))
+    return [(int(a), int(b)) for a, b in runs]
+
+
+@njit(cache=True, nogil=True)
+def _runs_of_regular(periods, tolerance):
+    """:func:`_regular_runs` of three or more periods: the median of five (reflected
+    at the ends) is the middle of the five sorted, the value ``np.median`` gives."""
+    n = periods.size
+    padded = np.empty(n + 4)
+    padded[2 : n + 2] = periods
+    padded[0], padded[1] = periods[2], periods[1]
+    padded[n + 2], padded[n + 3] = periods[n - 2], periods[n - 3]
+    runs = np.empty((n, 2), dtype=np.int64)
+    n_runs = 0
+    inside = False
+    for i in range(n):
+        window = np.sort(padded[i : i + 5])
+        local = window[2]
+        if np.isnan(window).any():
+            local = np.nan
+        regular = abs(periods[i] - local) <= tolerance * local
+        if regular and not inside:
+            runs[n_runs, 0] = i
+            inside = True
+        elif not regular and inside:
+            runs[n_runs, 1] = i
+            n_runs += 1
+            inside = False
+    if inside:
+        runs[n_runs, 1] = n
+        n_runs += 1
+    return runs[:n_runs]
+
+
+@njit(cache=True, nogil=True)
+def _median(x):
+    """``np.median`` of a 1-D array (sorted middle, or the mean of the two middles)."""
+    n = x.size
+    if n == 0 or np.isnan(x).any():
+        return np.nan
+    s = np.sort(x)
+    if n % 2:
+        return s[n // 2]
+    return (s[n // 2 - 1] + s[n // 2]) / 2.0
 
 
 @njit(cache=True, nogil=True)
@@ -143,24 +186,35 @@ def _segments(centred, crossings, peaks, kept):
     end when that half swings like the stretch's own (at least half its median peak and
     at most 1.5 times its median duration): an oscillation seldom starts or stops on
     a zero crossing, and the partial cycle at its edge belongs to it."""
-    runs = []
+    bounds = _segment_bounds(centred, crossings, peaks, np.asarray(kept, dtype=np.int64))
+    return [(int(a), int(b)) for a, b in bounds]
+
+
+@njit(cache=True, nogil=True)
+def _segment_bounds(centred, crossings, peaks, kept):
+    """:func:`_segments` as an array of rows ``(start, end)``."""
+    first_of = np.empty(kept.size, dtype=np.int64)
+    last_of = np.empty(kept.size, dtype=np.int64)
+    n_runs = 0
     for k in kept:  # group the kept cycles into runs of consecutive crossings
-        if runs and k <= runs[-1][1]:
-            runs[-1][1] = k + 2
+        if n_runs and k <= last_of[n_runs - 1]:
+            last_of[n_runs - 1] = k + 2
         else:
-            runs.append([k, k + 2])
+            first_of[n_runs], last_of[n_runs] = k, k + 2
+            n_runs += 1
     height = np.abs(centred[peaks])
-    durations = np.diff(crossings)
-    out = []
-    for first, last in runs:
-        inner = slice(first, last)
-        ref_h, ref_d = np.median(height[inner]), np.median(durations[inner])
+    durations = crossings[1:] - crossings[:-1]
+    out = np.empty((n_runs, 2), dtype=np.int64)
+    for r in range(n_runs):
+        first, last = first_of[r], last_of[r]
+        ref_h, ref_d = _median(height[first:last]), _median(durations[first:last])
         start, end = crossings[first], crossings[last]
         if first > 0 and height[first - 1] >= 0.5 * ref_h and durations[first - 1] <= 1.5 * ref_d:
             start = crossings[first - 1]
         if last < peaks.size and height[last] >= 0.5 * ref_h and durations[last] <= 1.5 * ref_d:
             end = crossings[last + 1]
-        out.append((int(np.floor(start)), int(np.ceil(end)) + 1))
+        out[r, 0] = int(np.floor(start))
+        out[r, 1] = int(np.ceil(end)) + 1
     return out
 
 
@@ -181,7 +235,9 @@ def _with_evidence(component, extra):
     return replace(component, index=float(1 / (1 + np.exp(-score))))
 
 
-def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0, threshold=0.5):
+def analyze_cycles(
+    x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0, threshold=0.5, dominant=None
+):
     """Detect and time-localise the oscillation of one signal, cycle by cycle.
 
     Detection: :func:`~sktiction.cycles.detect_oscillations` (default parameters)
@@ -225,6 +281,10 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
         the detection (0: no such condition).
     threshold : float, default=0.5
         Oscillation index above which a component oscillates.
+    dominant : callable or None, default=None
+        Returns :func:`~sktiction.cycles.dominant_period` of ``x`` when asked: a
+        caller that keeps it for other uses (a shared loop analysis) passes it, so it
+        is computed once. ``None`` computes it here when needed.
 
     Returns
     -------
@@ -242,17 +302,19 @@ def analyze_cycles(x, *, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.
     (True, array([100.]))
     """
     x = np.asarray(x, dtype=float)
+    if dominant is None:
+        dominant = lambda: dominant_period(x)  # noqa: E731
     components, p0, strength = [], np.nan, 0.0
     if x.size >= 20 and np.ptp(x) > 0:  # one spectrum for both the ACF and the components
         power, m, filled = _power_spectrum(x)
         if filled:  # the dominant period is read from the signal as recorded
-            p0, strength = dominant_period(x)
+            p0, strength = dominant()
         else:
             acf = irfft(power, m)[: x.size // 2 + 1]
             p0, strength = first_lobe(acf / acf[0]) if acf[0] > 0 else (np.nan, 0.0)
         components = _components(power, m, x.size, 3, 5.0, 3.5, 0.5, threshold)
     elif x.size > 2:
-        p0, strength = dominant_period(x)
+        p0, strength = dominant()
     found = [c for c in components if c.index > threshold]
     if found:
         main = max(found, key=lambda c: c.share)

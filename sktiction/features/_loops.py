@@ -14,7 +14,7 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from .._validation import OP, PV, SP, loop_lengths, loop_status, validate_loops
-from ..cycles import analyze_cycles
+from ..cycles import analyze_cycles, dominant_period
 
 _CHANNEL = {"pv": PV, "op": OP}
 
@@ -83,11 +83,20 @@ class LoopAnalysis:
             return self.memo("error", lambda: control_error(self.loops, self.i, self.n))
         return self.loops[self.i, : self.n, _CHANNEL[name]]
 
+    def dominant_period(self, name):
+        """:func:`~sktiction.cycles.dominant_period` of signal ``name`` (the cycle
+        analysis of a record with historian repeats and the PV-OP features both read it)."""
+        return self.memo(("dominant_period", name), lambda: dominant_period(self.signal(name)))
+
     def cycles(self, name, min_cycles=3):
         """:func:`~sktiction.cycles.analyze_cycles` of signal ``name``."""
         return self.memo(
             ("cycles", name, int(min_cycles)),
-            lambda: analyze_cycles(self.signal(name), min_cycles=int(min_cycles)),
+            lambda: analyze_cycles(
+                self.signal(name),
+                min_cycles=int(min_cycles),
+                dominant=lambda: self.dominant_period(name),
+            ),
         )
 
 

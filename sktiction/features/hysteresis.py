@@ -26,9 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import OP, PV
 from ..cycles import autocorrelation, dominant_period, moving_average, noise_std, remove_mean
-from ._loops import LoopTransformer
+from ._loops import LoopAnalysis, LoopTransformer
 from .stiction_model import fit_stiction_band
 
 FEATURES = (
@@ -43,12 +42,13 @@ FEATURES = (
 )
 
 
-def _window(x, n):
+def _window(x, n, dominant=None):
     """Smoothing/increment window: 1/32 of the dominant period, else n / 400 (>= 2).
 
     Short enough that a stuck stretch of a small band is not smoothed into a ramp.
+    ``dominant`` is :func:`~sktiction.cycles.dominant_period` of ``x`` when known.
     """
-    period, strength = dominant_period(x)
+    period, strength = dominant_period(x) if dominant is None else dominant
     if np.isfinite(period) and strength > 0.2:
         return int(np.clip(round(period / 32), 2, max(2, n // 20))), period
     return int(np.clip(round(n / 400), 2, max(2, n // 20))), np.nan
@@ -187,9 +187,12 @@ class PVOPHysteresis(LoopTransformer):
     _needs_op = True
 
     def _transform_loop(self, loops, i, n):
-        op = loops[i, :n, OP]
-        pv = loops[i, :n, PV]
-        w, period = _window(op, n)
+        return self._transform_analysis(LoopAnalysis(loops, i, n))
+
+    def _transform_analysis(self, analysis):
+        # OP's dominant period: shared with its cycle analysis when that needed it too
+        op, pv, n = analysis.signal("op"), analysis.signal("pv"), analysis.n
+        w, period = _window(op, n, analysis.dominant_period("op"))
         scales = (_move_scale(pv), _move_scale(op))
         stuck, moving = stuck_share(pv, op, w, scales)
         row = [stuck, moving, hysteresis_fill(pv, op, w, period)]
