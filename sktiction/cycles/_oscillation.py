@@ -256,13 +256,18 @@ def _candidates(smooth, k_lo, k_hi, count):
         )
         if peaks.size > 4 * count:  # the rest cannot make it
             peaks = peaks[np.argpartition(spectrum[peaks], -4 * count)[-4 * count :]]
+        cand = k[peaks[np.argsort(spectrum[peaks])[::-1]]]
+        # far[a, b]: candidate a lies more than 15 % (in log frequency) from candidate b
+        far = np.abs(np.log(cand[:, None] / cand[None, :])) > 0.15
         mine = []
-        for p in peaks[np.argsort(spectrum[peaks])[::-1]]:
-            if all(abs(np.log(k[p] / j)) > 0.15 for j in mine):
-                mine.append(int(k[p]))
+        for a in range(cand.size):
+            if far[a, mine].all():
+                mine.append(a)
                 if len(mine) >= count:
                     break
-        chosen.extend(j for j in mine if all(abs(np.log(j / i)) > 0.15 for i in chosen))
+        for j in cand[mine]:
+            if not chosen or (np.abs(np.log(j / np.array(chosen))) > 0.15).all():
+                chosen.append(int(j))
     return chosen
 
 
@@ -294,7 +299,8 @@ def _band_acf(power, k, m, n, bandwidth):
     period = float(tp.mean())
     if abs(np.log(period * k / m)) > 0.3:  # the ACF follows another (slower) component
         return None
-    regularity = float(period / (3 * tp.std())) if tp.std() > 0 else np.inf
+    sd = tp.std()
+    regularity = float(period / (3 * sd)) if sd > 0 else np.inf
     # coherence: mean ACF peak near one and two periods (one alone when two do not fit)
     peaks = []
     for j in (1, 2):
@@ -303,7 +309,9 @@ def _band_acf(power, k, m, n, bandwidth):
             peaks.append(acf[lo:hi].max())
     if not peaks:
         return None
-    coherence = float(np.clip(np.mean(peaks), 0.0, 1.0))
+    # np.mean of one or two values, as numpy sums and divides them
+    mean = peaks[0] if len(peaks) == 1 else (peaks[0] + peaks[1]) / 2.0
+    coherence = float(min(max(mean, 0.0), 1.0))
     return period, regularity, coherence, float(bp.sum())
 
 

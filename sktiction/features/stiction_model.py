@@ -23,6 +23,10 @@ from .._validation import OP, PV
 from ._loops import LoopTransformer
 
 FEATURES = ("stiction_fit_gain", "stiction_fit_band", "stiction_fit_band_share")
+#: Candidate bands as fractions of OP's peak-to-peak (made once: ``np.geomspace``
+#: costs as much as a small fit).
+_DEFAULT_GRID = np.geomspace(0.002, 0.6, 24)
+_DEFAULT_GRID.flags.writeable = False
 
 
 @njit(cache=True, nogil=True)
@@ -87,16 +91,20 @@ def _grid_normal_equations(pv, op, bands, n_lags):
     ones = np.ones(n)
     core_x = np.empty(n_lags)
     core_xp = np.empty(n_lags + 3)
+    # the PV and intercept entries are the same for every band: computed once
+    g00, g01, g11 = np.dot(p1, p1), np.dot(p1, p2), np.dot(p2, p2)
+    h0, h1 = np.dot(p1, b), np.dot(p2, b)
+    s1, s2, sb = p1.sum(), p2.sum(), b.sum()
     for g in range(bands.size):
         x = _play(op, bands[g])
         G, h = Gs[g], hs[g]
-        G[0, 0], G[0, 1], G[1, 1] = np.dot(p1, p1), np.dot(p1, p2), np.dot(p2, p2)
+        G[0, 0], G[0, 1], G[1, 1] = g00, g01, g11
         G[1, 0] = G[0, 1]
-        h[0], h[1] = np.dot(p1, b), np.dot(p2, b)
-        G[0, m - 1] = G[m - 1, 0] = p1.sum()
-        G[1, m - 1] = G[m - 1, 1] = p2.sum()
+        h[0], h[1] = h0, h1
+        G[0, m - 1] = G[m - 1, 0] = s1
+        G[1, m - 1] = G[m - 1, 1] = s2
         G[m - 1, m - 1] = n - n_lags
-        h[m - 1] = b.sum()
+        h[m - 1] = sb
         xc = x[lo:hi]
         for lag in range(n_lags):  # x with x, lag difference 0..n_lags-1
             core_x[lag] = np.dot(xc, x[lo + lag : hi + lag])
@@ -189,7 +197,7 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     span = float(np.ptp(op))
     if span == 0 or np.ptp(pv) == 0:
         return np.nan, np.nan
-    fracs = np.geomspace(0.002, 0.6, 24) if grid is None else np.asarray(grid, dtype=float)
+    fracs = _DEFAULT_GRID if grid is None else np.asarray(grid, dtype=float)
     # shifting PV and OP changes no residual (the model has an intercept and the play
     # operator commutes with a shift); centred, the normal equations lose no precision
     pv = pv - pv.mean()
