@@ -136,6 +136,27 @@ def _fitted_loop_features():
     return make_loop_features().fit(np.zeros((1, 30, 3)))
 
 
+def _raw_rows(loops, analyses, status):
+    """Loop features and domain statistics of checked loops from their analyses.
+
+    Each transformer reads the shared analyses, so a loop is analysed once, and a loop
+    without OP gets NaN from the transformers that need it (its reason comes from
+    ``status``) instead of failing the batch as ``transform`` would.
+    """
+    union = _fitted_loop_features()
+    with threadpool_limits(limits=1):  # tiny least-squares fits: see _ONE_THREAD
+        parts = [
+            est.transform_analysed(loops, analyses, status if est._needs_op else None)
+            for _, est in union.transformer_list
+        ]
+        parts.append(domain_statistics(loops, status))
+    return np.hstack(parts)
+
+
+def _raw_names():
+    return list(_fitted_loop_features().get_feature_names_out()) + list(DOMAIN_STATISTICS)
+
+
 def _robust_spread(x):
     """Interquartile range per row, falling back to the standard deviation, then 1."""
     q1, q3 = np.nanpercentile(x, [25, 75], axis=1)
@@ -440,12 +461,10 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
 
     def _raw_features(self, loops):
         """Feature matrix of normalised loops plus the domain statistics, in chunks."""
-        union = _fitted_loop_features()
+        from ..features._loops import analyse_loops
 
         def chunk(part):
-            with threadpool_limits(limits=1):  # tiny least-squares fits: see _ONE_THREAD
-                feats = union.transform(part)
-                return np.hstack([feats, domain_statistics(part)])
+            return _raw_rows(part, analyse_loops(part), loop_status(part, require_op=True))
 
         n_jobs = self.n_jobs if self.n_jobs is not None else 1
         size = max(1, int(np.ceil(len(loops) / max(1, 4 * abs(n_jobs)))))
@@ -454,8 +473,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             rows = [chunk(p) for p in parts]
         else:
             rows = Parallel(n_jobs=n_jobs)(delayed(chunk)(p) for p in parts)
-        names = list(union.get_feature_names_out()) + list(DOMAIN_STATISTICS)
-        return pd.DataFrame(np.vstack(rows), columns=names)
+        return pd.DataFrame(np.vstack(rows), columns=_raw_names())
 
     @staticmethod
     def _model_columns(raw, lengths):
@@ -690,15 +708,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         check_is_fitted(self, "model_")
         if status is None:
             status = loop_status(loops, require_op=True)
-        union = _fitted_loop_features()
-        with threadpool_limits(limits=1):  # tiny least-squares fits: see _ONE_THREAD
-            parts = [
-                est.transform_analysed(loops, analyses, status if est._needs_op else None)
-                for _, est in union.transformer_list
-            ]
-            parts.append(domain_statistics(loops, status))
-        names = list(union.get_feature_names_out()) + list(DOMAIN_STATISTICS)
-        raw = pd.DataFrame(np.hstack(parts), columns=names)
+        raw = pd.DataFrame(_raw_rows(loops, analyses, status), columns=_raw_names())
         _, op_scale = _centre_scale(loops[:, :, OP])
         for name in _OP_UNIT_FEATURES:  # in the normalised OP units the model learned
             raw[name] = raw[name] / op_scale
