@@ -8,6 +8,45 @@ import numpy as np
 from numba import njit
 
 
+def fast_median(x):
+    """``np.median`` of a 1-D float array, to the bit, by sorting.
+
+    numpy selects the middle by partitioning, which is slow on the long runs of equal
+    values of held or quantised records (second differences that are mostly zero);
+    a full sort (vectorised) is 3x faster there. The middle, or the mean of the two
+    middles as numpy forms it, is then the same number (a zero may carry the other
+    sign: which of -0.0 and 0.0, equal to any comparison, lands in the middle depends
+    on the order the selection leaves them in, in numpy too).
+    """
+    x = np.asarray(x)
+    s = np.sort(x)
+    if s.size == 0 or s.dtype != np.float64 or np.isnan(s[-1]):
+        return np.median(x)  # NaN sorts last: numpy's answer (and warnings) for these
+    h = s.size // 2  # numpy's mean of the middle one or two: a sum from 0.0, then divided
+    return 0.0 + s[h] if s.size % 2 else (0.0 + s[h - 1] + s[h]) / 2
+
+
+def fast_percentile(x, q):
+    """``np.percentile(x, q)`` (linear method) of a 1-D float array, to the bit, by sorting.
+
+    ``q`` is a sequence of percentiles strictly between 0 and 100; the virtual index,
+    its neighbours and numpy's two-sided linear interpolation are formed as numpy
+    forms them (see :func:`fast_median` for why sorting).
+    """
+    x = np.asarray(x)
+    s = np.sort(x)
+    n = s.size
+    if n < 2 or s.dtype != np.float64 or np.isnan(s[-1]):
+        return np.percentile(x, q)
+    v = (n - 1) * np.true_divide(q, 100)
+    i = np.floor(v)
+    t = v - i
+    i = i.astype(np.intp)
+    a, b = s[i], s[i + 1]
+    d = b - a
+    return np.where(t >= 0.5, b - d * (1 - t), a + d * t)
+
+
 def noise_std(x):
     """Robust noise standard deviation from second differences.
 
@@ -26,7 +65,7 @@ def noise_std(x):
     d2 = np.diff(np.asarray(x, dtype=float), 2)
     if d2.size == 0:
         return 0.0
-    return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / np.sqrt(6.0))
+    return float(1.4826 * fast_median(np.abs(d2 - fast_median(d2))) / np.sqrt(6.0))
 
 
 def autocorrelation(x, max_lag):

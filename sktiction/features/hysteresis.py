@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..cycles import autocorrelation, dominant_period, moving_average, noise_std, remove_mean
+from ..cycles._signal import fast_median, fast_percentile
 from ._loops import LoopAnalysis, LoopTransformer
 from .stiction_model import fit_stiction_band
 
@@ -93,7 +94,7 @@ def valve_fit(pv, op, k):
 def _move_scale(x):
     """Noise standard deviation and 5-95 % spread of ``x``: what :func:`_moves` compares
     increments with (the same at every window, so computed once per signal)."""
-    lo, hi = np.percentile(x, [5, 95])
+    lo, hi = fast_percentile(x, [5, 95])
     return noise_std(x), hi - lo
 
 
@@ -136,10 +137,10 @@ def hysteresis_fill(pv, op, w, period):
     """
     x = moving_average(remove_mean(op, period), w)
     y = moving_average(remove_mean(pv, period), w)
-    x = x - np.median(x)
-    y = y - np.median(y)
+    x = x - fast_median(x)
+    y = y - fast_median(y)
     travel = np.abs(np.diff(x)).sum()
-    lo, hi = np.percentile(y, [5, 95])
+    lo, hi = fast_percentile(y, [5, 95])
     if travel == 0 or hi == lo:
         return np.nan
     area = 0.5 * np.sum(x[:-1] * y[1:] - x[1:] * y[:-1])
