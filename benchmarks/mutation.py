@@ -15,6 +15,13 @@ Not part of CI: a full run takes hours on 2 cores. Choose modules and tests:
     python benchmarks/mutation.py --module sktiction/features/hysteresis.py  # its fast tests
     python benchmarks/mutation.py --module features      # a group, with its tests
     python benchmarks/mutation.py --list                 # the groups
+    python benchmarks/mutation.py --module sktiction/datasets/_generators.py \
+        --sample 300 --seed 0                            # a random sample of its mutants
+
+``--sample`` runs a seeded random sample of the mutants (for files whose full run takes
+hours) and prints the score with a 95 % Wilson interval; it is an estimate, say so.
+``--recheck`` runs the survivors of the last run in ``--workdir`` again against the tests
+as they are now (tests added since are picked up; the source stays the one measured).
 
 Requires ``pip install mutmut`` (3.x). Runs under ``nice`` with one BLAS/numba thread
 per worker; ``--max-children`` workers (default 1: the machine is shared).
@@ -24,7 +31,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
+import random
 import shutil
 import subprocess
 import sys
@@ -152,6 +161,21 @@ TARGETED = {
     ],
     "sktiction/datasets/_timestamps.py": ["tests/test_timestamps.py", "tests/test_read_loops.py"],
     "sktiction/datasets/_readers.py": ["tests/test_readers.py", "tests/test_read_loops.py"],
+    # one tiny fitted model (30 loops, 20 boosting rounds) and unit tests of its parts
+    "sktiction/classifiers/learned.py": [
+        "tests/test_classifiers_learned.py",
+        "tests/test_learned.py::test_closed_loops_are_coupled_and_unrelated_signals_are_not",
+        "tests/test_learned.py::test_bad_parameters_and_labels_raise",
+        "tests/test_learned.py::test_cache_loads_rebuilds_corrupt_and_stale_entries",
+    ],
+    "sktiction/datasets/_generators.py": [
+        "tests/test_make_loops.py", "tests/test_make_loops_signals.py",
+        "tests/test_setpoint_nuisance.py", "tests/test_example.py",
+        "tests/test_realism.py::test_calibrated_world_settings_reach_the_loops",
+        "tests/test_generators_meta.py",
+    ],
+    "sktiction/datasets/_examples.py": ["tests/test_example.py"],
+    "sktiction/datasets/_plant_examples.py": ["tests/test_mutation_examples.py"],
 }  # fmt: skip
 
 # mutmut's exit codes (mutmut/stats.py)
@@ -212,23 +236,85 @@ def _configure(workdir, globs, tests):
         f.write("\n".join(lines) + "\n")
 
 
-def _run(workdir, max_children, log):
+def _run(workdir, max_children, log, names=()):
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
                NUMBA_NUM_THREADS="1", PYTHONDONTWRITEBYTECODE="1")  # fmt: skip
     env.pop("PYTHONPATH", None)
-    cmd = ["nice", "-n", "10", "mutmut", "run", "--max-children", str(max_children)]
-    with open(log, "w", encoding="utf-8") as out:
+    cmd = ["nice", "-n", "10", "mutmut", "run", "--max-children", str(max_children), *names]
+    with open(log, "a", encoding="utf-8") as out:
         return subprocess.run(cmd, cwd=workdir, env=env, stdout=out, stderr=subprocess.STDOUT)
 
 
-def _results(workdir):
-    """{source file: Counter of statuses}, and the surviving mutant names."""
+def _all_mutants(workdir):
+    """Names of every mutant mutmut generated, in a stable order."""
+    names = []
+    for meta in sorted((workdir / "mutants").rglob("*.py.meta")):
+        names += sorted(json.loads(meta.read_text())["exit_code_by_key"])
+    return names
+
+
+def _sample_run(workdir, max_children, log, size, seed):
+    """Generate the mutants and the tests' coverage (a name that matches nothing stops
+    mutmut right after), then run ``size`` of them drawn at random with ``seed``."""
+    _run(workdir, max_children, log, ["no-such-mutant-only-generate"])
+    names = _all_mutants(workdir)
+    if not names:
+        sys.exit(f"mutmut generated no mutants; see {log}")
+    chosen = sorted(random.Random(seed).sample(names, min(size, len(names))))
+    (workdir / "sample.json").write_text(json.dumps({"seed": seed, "of": len(names),
+                                                     "names": chosen}))  # fmt: skip
+    return _run(workdir, max_children, log, chosen)
+
+
+def _recheck(workdir, globs, tests, max_children, log):
+    """Run the last run's survivors again against the tree's current tests; keep the
+    other verdicts (mutmut resets them when the test selection changes)."""
+    metas = sorted((workdir / "mutants").rglob("*.py.meta"))
+    before = {m: json.loads(m.read_text())["exit_code_by_key"] for m in metas}
+    sample = _sample(workdir)
+    names = [n for codes in before.values() for n, c in codes.items()
+             if _STATUS.get(c, "suspicious") not in CAUGHT and c is not None
+             and (sample is None or n in sample["names"])]  # fmt: skip
+    print(f"rechecking {len(names)} survivors")
+    for dest in (workdir / "tests", workdir / "mutants" / "tests"):
+        shutil.copytree(ROOT / "tests", dest, dirs_exist_ok=True)
+    shutil.copy2(ROOT / "pyproject.toml", workdir / "pyproject.toml")
+    _configure(workdir, globs, tests)
+    done = _run(workdir, max_children, log, names)
+    for meta, codes in before.items():
+        data = json.loads(meta.read_text())
+        for name, code in codes.items():
+            if name not in names:
+                data["exit_code_by_key"][name] = code
+        meta.write_text(json.dumps(data))
+    return done
+
+
+def _sample(workdir):
+    path = workdir / "sample.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def _wilson(k, n, z=1.96):
+    """95 % Wilson score interval of a proportion k / n."""
+    if n == 0:
+        return 0.0, 1.0
+    p, d = k / n, 1 + z * z / n
+    mid, half = (p + z * z / (2 * n)) / d, z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return mid - half, mid + half
+
+
+def _results(workdir, only=None):
+    """{source file: Counter of statuses}, and the surviving mutant names (of ``only``,
+    a sample's names, when given)."""
     per_file, survivors = {}, []
     for meta in sorted((workdir / "mutants").rglob("*.py.meta")):
         data = json.loads(meta.read_text())
         src = str(meta.relative_to(workdir / "mutants"))[: -len(".meta")]
         counts = Counter()
         for name, code in data["exit_code_by_key"].items():
+            if only is not None and name not in only:
+                continue
             status = _STATUS.get(code, "suspicious")
             counts[status] += 1
             if status not in CAUGHT:
@@ -254,6 +340,11 @@ def main(argv=None):
     p.add_argument("--list", action="store_true", help="print the groups and exit")
     p.add_argument("--report-only", action="store_true",
                    help="print the results of the last run in --workdir")  # fmt: skip
+    p.add_argument("--sample", type=int, default=None,
+                   help="run only this many mutants, drawn at random (see --seed)")  # fmt: skip
+    p.add_argument("--seed", type=int, default=0, help="seed of --sample")
+    p.add_argument("--recheck", action="store_true",
+                   help="run the last survivors again against the current tests")  # fmt: skip
     args = p.parse_args(argv)
     if args.list:
         for name, (globs, tests) in GROUPS.items():
@@ -265,14 +356,24 @@ def main(argv=None):
     workdir = args.workdir.resolve()
     if workdir == ROOT or ROOT in workdir.parents:
         sys.exit("--workdir must be outside the working tree")
-    if not args.report_only:
+    if args.recheck:
+        _recheck(workdir, globs, tests, args.max_children, workdir / "mutmut.log")
+    elif not args.report_only:
         print(f"mutating {globs}\nwith {tests}\nin {workdir}")
         _copy_tree(workdir)
         _configure(workdir, globs, tests)
-        done = _run(workdir, args.max_children, workdir / "mutmut.log")
+        log = workdir / "mutmut.log"
+        if args.sample:
+            done = _sample_run(workdir, args.max_children, log, args.sample, args.seed)
+        else:
+            done = _run(workdir, args.max_children, log)
         if done.returncode != 0:
-            print(f"mutmut exited with {done.returncode}; see {workdir / 'mutmut.log'}")
-    per_file, survivors = _results(workdir)
+            print(f"mutmut exited with {done.returncode}; see {log}")
+    sample = _sample(workdir)
+    if sample is not None:
+        print(f"\na SAMPLE of {len(sample['names'])} of {sample['of']} mutants "
+              f"(seed {sample['seed']})")  # fmt: skip
+    per_file, survivors = _results(workdir, None if sample is None else set(sample["names"]))
     if not per_file:
         sys.exit(f"no results in {workdir / 'mutants'}")
     print(f"\n{'file':48s} {'mutants':>7s} {'killed':>6s} {'survived':>8s} {'no tests':>8s}"
@@ -282,6 +383,9 @@ def main(argv=None):
         caught = sum(c[s] for s in CAUGHT)
         print(f"{src:48s} {total:7d} {caught:6d} {c['survived']:8d} {c['no tests']:8d}"
               f" {caught / max(total, 1):6.1%}")  # fmt: skip
+        if sample is not None:
+            lo, hi = _wilson(caught, total)
+            print(f"{'':48s} 95 % interval of the score: {lo:.1%} - {hi:.1%}")
     print("\nsurviving mutants (no test failed):")
     for _src, name, status in survivors:
         print(f"\n# {name} [{status}]\n{_show(workdir, name)}")

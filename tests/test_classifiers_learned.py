@@ -13,6 +13,7 @@ import pandas as pd
 import pytest
 from joblib import parallel_config
 from sklearn.calibration import CalibratedClassifierCV
+from sklearn.dummy import DummyClassifier
 from sklearn.ensemble import HistGradientBoostingClassifier, VotingClassifier
 from sklearn.linear_model import LogisticRegression
 from sklearn.pipeline import Pipeline
@@ -27,6 +28,7 @@ from sktiction.classifiers.learned import (
     _ar_filter,
     _robust_spread,
     domain_statistics,
+    make_loop_features,
     normalise_loops,
     pv_op_coupling,
 )
@@ -51,6 +53,20 @@ def pi_loop(n=1000, seed=0, step=True):
     return pv, op, sp
 
 
+def integral_loop(n=1000, seed=0, op_noise=0.02):
+    """The same plant under integral-only control (dOP = Ki e), OP recorded with noise."""
+    rng = np.random.default_rng(seed)
+    pv, op, sp = np.zeros(n), np.zeros(n), np.zeros(n)
+    sp[n // 2 :] = 1.0
+    drift = np.cumsum(rng.normal(0, 0.05, n))
+    x = 0.0
+    for t in range(1, n):
+        x = 0.9 * x + 0.1 * op[t - 1]
+        pv[t] = x + drift[t] + rng.normal(0, 0.01)
+        op[t] = op[t - 1] + 0.05 * (sp[t] - pv[t])
+    return pv, op + rng.normal(0, op_noise, n), sp
+
+
 def held(x, k):
     """Each k-th sample held for k samples (a historian that records on change)."""
     return np.repeat(x[::k], k)[: len(x)]
@@ -66,6 +82,23 @@ def test_robust_spread_is_the_iqr_then_the_sd_then_one():
     assert spread[0] == pytest.approx(49.5)  # quartiles 24.75 and 74.25
     assert spread[1] == pytest.approx(np.std(flat))
     assert spread[2] == 1.0
+
+
+def test_robust_spread_ignores_spikes():
+    # five spikes make the standard deviation 40 times the IQR; the spread stays the IQR
+    x = np.arange(100.0)
+    x[::20] = 1e4
+    q1, q3 = np.percentile(x, [25, 75])
+    assert np.std(x) > 40 * (q3 - q1)
+    assert _robust_spread(x[None])[0] == pytest.approx(q3 - q1)
+
+
+def test_integer_loops_are_normalised_as_floats():
+    # a historian export of whole numbers: the result must not be truncated to integers
+    X = np.random.default_rng(6).integers(0, 100, size=(2, 300, 3))
+    Z = normalise_loops(X)
+    assert Z.dtype == float and not np.array_equal(Z, np.round(Z))
+    np.testing.assert_array_equal(Z, normalise_loops(X.astype(float)))
 
 
 def test_normalised_loops_have_median_zero_and_unit_iqr_and_keep_the_error():
@@ -112,6 +145,41 @@ def test_a_controller_output_is_coupled_and_an_unrelated_one_is_not():
     gappy[10] = np.nan
     assert pv_op_coupling(pv, op, gappy) == pv_op_coupling(pv, op)
     assert pv_op_coupling(pv, op) != z  # the setpoint step is part of the error
+
+
+def weakly_coupled_loop():
+    """The PI loop with OP recorded with noise of its own: a plain coupling z of about 5."""
+    pv, op, sp = pi_loop()
+    return pv, op + np.random.default_rng(7).normal(0, 0.2, op.size), sp
+
+
+def test_coupling_is_not_prewhitened_by_default_and_prewhitening_ignores_units():
+    pv, op, sp = weakly_coupled_loop()  # a strong coupling sits at the z cap (about 37)
+    assert pv_op_coupling(pv, op, sp) == pv_op_coupling(pv, op, sp, prewhiten=0)
+    white = pv_op_coupling(pv, op, sp, prewhiten=8)
+    assert white != pv_op_coupling(pv, op, sp)
+    for k in (1e-4, 1e4):  # the ridge of the AR fit is relative to OP's own size
+        got = pv_op_coupling(1e3 * pv - 5, k * op + 3, 1e3 * sp - 5, prewhiten=8)
+        assert got == pytest.approx(white, rel=1e-6)
+
+
+def test_the_white_column_is_the_prewhitened_coupling_of_the_control_error():
+    # a weak plain coupling (< 10): the prewhitened one is computed too, and from SP - PV
+    # (the setpoint step is part of the error)
+    pv, op, sp = weakly_coupled_loop()
+    stats = domain_statistics(np.stack([pv, op, sp], -1)[None])[0]
+    assert stats[0] == pytest.approx(pv_op_coupling(pv, op, sp)) and stats[0] < 10
+    white = pv_op_coupling(pv, op, sp, prewhiten=learned_module._PREWHITEN_ORDER)
+    assert stats[1] == pytest.approx(white)
+    assert abs(white - pv_op_coupling(pv, op, prewhiten=learned_module._PREWHITEN_ORDER)) > 1
+    assert abs(white - stats[0]) > 1
+
+
+def test_an_integral_only_controller_is_coupled_prewhitened_or_not():
+    # the regression holds the error itself, not only its increments (dOP = Ki e here)
+    pv, op, sp = integral_loop()
+    assert pv_op_coupling(pv, op, sp) > 5
+    assert pv_op_coupling(pv, op, sp, prewhiten=8) > 5
 
 
 def test_coupling_needs_ten_op_moves():
@@ -176,6 +244,23 @@ def test_the_feature_furthest_outside_its_range_is_named():
     assert _ranged(margin=None)._range_reasons(F, reasons).tolist() == reasons.tolist()
 
 
+def test_distance_outside_the_range_is_in_widths_of_each_range():
+    clf = LearnedStictionClassifier()
+    clf.feature_names_ = np.array(["a", "b", "c"], dtype=object)
+    clf.domain_low_ = np.array([0.0, 0.0, 2.0])
+    clf.domain_high_ = np.array([1.0, 10.0, 2.0])  # c: one value, its width taken as 1
+    clf.domain_nan_ = np.zeros(3, dtype=bool)
+    F = np.array([
+        [1.3, 12.0, 2.0],  # a 0.3 widths above, b 0.2 widths (2 units)
+        [-0.3, -2.0, 2.0],  # the same below
+        [1.3, 5.0, 2.5],  # c 0.5 above
+        [-0.3, 5.0, 1.5],  # c 0.5 below
+    ])  # fmt: skip
+    got = clf._range_reasons(F, np.array(["ok"] * 4, dtype=object))
+    assert got.tolist() == ["out_of_domain:a", "out_of_domain:a", "out_of_domain:c",
+                            "out_of_domain:c"]  # fmt: skip
+
+
 def test_model_columns_replace_counts_by_the_oscillating_share():
     raw = pd.DataFrame({
         "area__n_half_cycles": [10.0, 4.0, np.nan], "templates__n_cycles": [5.0, 8.0, np.nan],
@@ -191,6 +276,13 @@ def test_model_columns_replace_counts_by_the_oscillating_share():
 
 
 # ---- parameters ---------------------------------------------------------------------------
+
+
+def test_feature_union_jobs_and_tags():
+    assert make_loop_features(n_jobs=2).n_jobs == 2
+    tags = LearnedStictionClassifier().__sklearn_tags__()
+    assert tags.input_tags.allow_nan is True  # NaN pads loops of unequal length
+    assert tags.input_tags.three_d_array is True
 
 
 @pytest.mark.parametrize(
@@ -244,6 +336,8 @@ def test_the_parameters_reach_the_models():
     assert isinstance(alone, CalibratedClassifierCV) and alone.method == "isotonic"
     raw = LearnedStictionClassifier(model="logistic", calibration=None, **params)._make_model()
     assert isinstance(raw, Pipeline) and isinstance(raw[-1], LogisticRegression)
+    # each part of the ensemble is reachable under the name of its own `model` value
+    assert [name for name, _ in ens.estimators] == ["boosting", "logistic"]
 
 
 # ---- one tiny fitted model ------------------------------------------------------------------
@@ -274,6 +368,11 @@ def test_the_domain_is_the_training_range_widened(data, model):
     np.testing.assert_allclose(model.domain_high_, hi + 0.5 * width)
     np.testing.assert_array_equal(model.domain_nan_, np.isnan(F).any(axis=0))
     assert model.n_channels_in_ == 3 and model.classes_.tolist() == ["healthy", "stiction"]
+    # this test is the first to use the fitted model (mutation runs attribute fit to it):
+    # the model speaks on its own training loops and mostly agrees with their labels
+    report = model.diagnose(X)
+    assert report["in_domain"].all()
+    assert (report["prediction"] == data[1]).mean() >= 0.8
 
 
 def test_verdicts_follow_the_probability_inside_the_domain(data, model):
@@ -317,6 +416,25 @@ def test_loops_it_cannot_judge_get_the_first_hard_reason(data, model):
     assert strict.diagnose(loops[:1])["reason"].tolist() == ["pv_op_unrelated"]
 
 
+def test_two_hundred_samples_are_enough_by_default(data, model):
+    X, _ = data
+    loops = np.full((2, 600, 3), np.nan)
+    loops[0, :200] = X[0, :200]
+    loops[1, :199] = X[0, :199]
+    reasons = model.diagnose(loops)["reason"].tolist()
+    assert reasons[0] != "too_short" and reasons[1] == "too_short"
+
+
+def test_a_probability_of_one_half_is_a_stiction_verdict(data, model):
+    X, _ = data
+    half = copy.copy(model)
+    n = len(model.feature_names_)
+    half.model_ = DummyClassifier(strategy="prior").fit(np.zeros((2, n)), [0, 1])
+    report = half.diagnose(X[:3])
+    assert (report["probability"] == 0.5).all()
+    assert report["prediction"].tolist() == ["stiction"] * 3
+
+
 def test_shared_analyses_give_the_same_verdicts_in_any_op_units(data, model):
     X, _ = data
     loops = check_loops(X[:10])
@@ -332,6 +450,31 @@ def test_shared_analyses_give_the_same_verdicts_in_any_op_units(data, model):
     again = model.diagnose_analysed(scaled, analyse_loops(scaled))
     diff = np.abs(again["probability"] - got["probability"])
     assert (diff <= 1e-6).mean() >= 0.8 and diff.max() <= 0.05
+
+
+def test_loops_without_op_or_movement_get_the_same_reasons_from_shared_analyses(data, model):
+    # no status given: diagnose_analysed must find the loops without OP itself, as diagnose does
+    X, _ = data
+    loops = X[:8].copy()  # diagnose's feature chunks of 2: the OP-less loop shares one
+    loops[1, :, 1] = np.nan  # no OP
+    loops[2, :, 1] = 42.0  # OP never moves
+    loops[3, :, 0] = 1.0  # PV constant
+    loops = check_loops(loops)
+    expected = model.diagnose(loops)
+    got = model.diagnose_analysed(loops, analyse_loops(loops))
+    assert expected["reason"][1] == "missing_op" and not expected["in_domain"][1:4].any()
+    np.testing.assert_array_equal(got["reason"], expected["reason"])
+    np.testing.assert_array_equal(got["in_domain"], expected["in_domain"])
+
+
+def test_fit_forgets_the_record_length_of_an_earlier_fit(data):
+    X, labels = data
+    clf = LearnedStictionClassifier(max_iter=5, cv=2, random_state=0)
+    with pytest.raises(ValueError, match="OP"):
+        clf.fit(X[:, :, 0], labels)  # PV records only: nothing to learn from
+    assert clf.n_features_in_ == X.shape[1]  # what scikit-learn records for 2-D input
+    clf.fit(X, labels)  # 3-D loops may have any length: the stale count must go
+    assert not hasattr(clf, "n_features_in_")
 
 
 def test_features_in_parallel_chunks_are_the_same(data, model):
@@ -359,7 +502,11 @@ def test_fit_refuses_labels_and_loops_it_cannot_learn_from(data):
     with pytest.raises(ValueError, match="X has 30 loops but y has 2 labels"):
         clf.fit(X, labels[:2])
     noise = np.random.default_rng(5).normal(size=(12, 300, 3))
-    with pytest.raises(ValueError, match="only 0 of 12 training loops can be analysed"):
+    with pytest.raises(
+        ValueError,
+        match=r"only 0 of 12 training loops can be analysed \(long "
+        r"enough, with OP, PV and OP related\); need at least 10 of both classes",
+    ):
         clf.fit(noise, np.arange(12) % 2)
 
 
@@ -408,3 +555,50 @@ def test_pretrained_classifier_builds_once_per_arguments_and_returns_copies(monk
             learned_module.pretrained_classifier(world="plant")
     finally:
         learned_module._trained.cache_clear()
+
+
+def test_pretrained_classifier_defaults_and_deep_copies(monkeypatch):
+    built = []
+
+    def fake_build(random_state, n_loops, n_samples, world, n_jobs):
+        built.append((random_state, n_loops, n_samples, world))
+        return {"model": ["fitted"]}
+
+    monkeypatch.setattr(learned_module, "_build", fake_build)
+    learned_module._trained.cache_clear()
+    try:
+        first = learned_module.pretrained_classifier(cache=False)
+        assert built == [(0, 1500, 2000, "default")]  # the documented defaults
+        first["model"].append("changed by the caller")  # inside the model, not just its top
+        assert learned_module.pretrained_classifier(cache=False) == {"model": ["fitted"]}
+        assert len(built) == 1
+    finally:
+        learned_module._trained.cache_clear()
+
+
+def test_training_sets_are_the_documented_worlds():
+    X, y = learned_module._training_set(0, 12, 300, "classic")
+    X2, y2 = make_loops(12, n_samples=300, random_state=0, world="classic", slip_fraction=0.25)
+    np.testing.assert_array_equal(X, X2)
+    np.testing.assert_array_equal(y, y2)
+    X, _ = learned_module._training_set(1, 6, 300, "default")
+    np.testing.assert_array_equal(X, make_loops(6, n_samples=300, random_state=1)[0])
+
+
+def test_build_fits_the_documented_recipe_on_its_training_set(monkeypatch):
+    made = []
+
+    class Recorder:
+        def __init__(self, **params):
+            made.append(params)
+
+        def fit(self, X, y):
+            self.X, self.y = X, y
+            return self
+
+    monkeypatch.setattr(learned_module, "make_learned_classifier", Recorder)
+    model = learned_module._build(2, 6, 300, "classic", 1)
+    assert made == [{"random_state": 2, "n_jobs": 1}]
+    X, y = learned_module._training_set(2, 6, 300, "classic")
+    np.testing.assert_array_equal(model.X, X)
+    np.testing.assert_array_equal(model.y, y)
