@@ -467,6 +467,18 @@ def test_loops_without_op_or_movement_get_the_same_reasons_from_shared_analyses(
     np.testing.assert_array_equal(got["in_domain"], expected["in_domain"])
 
 
+def test_two_dimensional_input_is_pv_only_and_leaves_the_fitted_model_alone(data, model):
+    # one PV record per row: no OP, so no verdict; judging loops must not record anything
+    # on the model (scikit-learn's n_features_in_ is set by fit only)
+    X, _ = data
+    clf = copy.copy(model)
+    report = clf.diagnose(X[:5, :, 0])
+    assert report["reason"].tolist() == ["missing_op"] * 5
+    assert report["probability"].isna().all()
+    assert len(clf.loop_features(X[:5, :, 0])) == 5
+    assert not hasattr(clf, "n_features_in_")
+
+
 def test_fit_forgets_the_record_length_of_an_earlier_fit(data):
     X, labels = data
     clf = LearnedStictionClassifier(max_iter=5, cv=2, random_state=0)
