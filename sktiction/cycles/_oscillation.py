@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.fft import irfft, next_fast_len, rfft
@@ -60,12 +61,23 @@ def _fill_repeats(x):
 
 def _smooth_constant_q(p, q):
     """Moving average of ``p`` over +-q*k bins around bin k (at least one each side)."""
-    k = np.arange(p.size)
-    h = np.maximum(1, (q * k + 0.5).astype(int))
+    lo, hi, width = _constant_q_windows(p.size, q)
     c = np.concatenate([[0.0], np.cumsum(p)])
-    lo = np.clip(k - h, 0, p.size)
-    hi = np.clip(k + h + 1, 0, p.size)
-    return (c[hi] - c[lo]) / (hi - lo)
+    return (c[hi] - c[lo]) / width
+
+
+@lru_cache(maxsize=64)
+def _constant_q_windows(size, q):
+    """Window ends of :func:`_smooth_constant_q`: they depend on the length alone, and
+    records of one length (a site's) share them."""
+    k = np.arange(size)
+    h = np.maximum(1, (q * k + 0.5).astype(int))
+    lo = np.clip(k - h, 0, size)
+    hi = np.clip(k + h + 1, 0, size)
+    width = hi - lo
+    for a in (lo, hi, width):
+        a.flags.writeable = False
+    return lo, hi, width
 
 
 def _acf_crossings(r, max_crossings):
@@ -257,17 +269,19 @@ def _candidates(smooth, k_lo, k_hi, count):
         if peaks.size > 4 * count:  # the rest cannot make it
             peaks = peaks[np.argpartition(spectrum[peaks], -4 * count)[-4 * count :]]
         cand = k[peaks[np.argsort(spectrum[peaks])[::-1]]]
-        # far[a, b]: candidate a lies more than 15 % (in log frequency) from candidate b
-        far = np.abs(np.log(cand[:, None] / cand[None, :])) > 0.15
+        # far[a][b]: candidate a lies more than 15 % (in log frequency) from candidate b
+        far = (np.abs(np.log(cand[:, None] / cand[None, :])) > 0.15).tolist()
         mine = []
         for a in range(cand.size):
-            if far[a, mine].all():
+            if all(far[a][b] for b in mine):
                 mine.append(a)
                 if len(mine) >= count:
                     break
-        for j in cand[mine]:
-            if not chosen or (np.abs(np.log(j / np.array(chosen))) > 0.15).all():
-                chosen.append(int(j))
+        new = cand[mine]
+        if chosen and new.size:  # those of this spectrum are far from each other already
+            ratio = new[:, None] / np.array(chosen)[None, :]
+            new = new[(np.abs(np.log(ratio)) > 0.15).all(axis=1)]
+        chosen.extend(int(j) for j in new)
     return chosen
 
 
