@@ -170,3 +170,61 @@ def test_pv_variation_corner_follows_the_ultimate_frequency():
     ratio = load[quiet] / ultimate[quiet]
     assert np.all((ratio >= 0.05 - 1e-9) & ((ratio <= 0.5 + 1e-9) | (load[quiet] >= 0.45)))
     assert ratio.max() > 0.25
+
+
+# the default world's meta columns, as make_loops' docstring lists them
+DOCUMENTED = """cause y plant order gain time_constant delay apparent_time_constant apparent_delay
+lambda valve S J rule gain_factor Kc Ti ts samples_per_cycle snr_db scenario effects
+plant_family action loop_kind kc_factor ti_factor gain_margin samples_per_ultimate_period
+noise_colour loop_type pv_own_share oscillating noise_path drift disturbance setpoint_regime
+recording record_length initial_op pv_scale pv_center warmup pv_per_valve slip_snr
+stiction_visible""".split()
+
+
+def test_default_world_meta_has_the_documented_columns(default_world):
+    _, _, meta = default_world
+    assert set(DOCUMENTED) <= set(meta.columns)
+    # a positive process gain needs a reverse-acting controller
+    np.testing.assert_array_equal(meta["action"] == "reverse", meta["gain"] > 0)
+    assert set(meta["action"]) == {"reverse", "direct"}
+
+
+def test_documented_defaults_and_bounds_of_the_record():
+    # warmup None means max(300, n_samples // 5); min_length may be as short as 20
+    _, _, meta = make_loops(2, 300, random_state=0, return_meta=True)
+    assert (meta["warmup"] == 300).all()
+    _, _, meta = make_loops(2, 2000, random_state=0, return_meta=True)
+    assert (meta["warmup"] == 400).all()
+    _, _, meta = make_loops(6, 100, min_length=20, short_fraction=1.0, random_state=0,
+                            return_meta=True)  # fmt: skip
+    assert meta["record_length"].between(20, 100).all()
+    with pytest.raises(ValueError, match="min_length"):
+        make_loops(2, 100, min_length=19)
+    with pytest.raises(ValueError, match="positive weight to one of"):
+        make_loops(2, 100, setpoint_weights={"constant": 0.0, "steps": 0.0, "step": 0.0,
+                                             "cascade": 0.0})  # fmt: skip
+    with pytest.raises(ValueError, match="for self-regulating plants"):
+        make_loops(2, 100, rules=("simc",), orders=(1,))
+
+
+class _HeldProfiles:
+    """A calibrated world whose every loop copies a profile recorded with a held historian."""
+
+    overrides = {}
+
+    def loop_profile(self, rng):
+        from sktiction.simulation import HoldLastValue
+
+        return {"loop_type": None, "settings": {},
+                "recording": [HoldLastValue(0.5, mean_run=5.0)]}  # fmt: skip
+
+    def recording_effects(self, rng, loop_type=None):
+        return []
+
+
+def test_a_profiles_recording_reaches_the_loops():
+    X, _, meta = make_loops(6, 400, realism=_HeldProfiles(), short_fraction=0.0,
+                            random_state=0, return_meta=True)  # fmt: skip
+    assert (meta["recording"] == "HoldLastValue").all()
+    for pv, op in zip(X[:, :, 0], X[:, :, 1], strict=True):
+        assert np.array_equal(_frozen(pv), _frozen(op)) and _frozen(pv).mean() > 0.2
