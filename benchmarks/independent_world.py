@@ -285,15 +285,71 @@ def main(n_loops=400, n_sec=6000):
 
     model = clfs[name]
     Xd, yd = make_loops(600, n_samples=2000, random_state=12345)
-    parts = []
+    parts, feats = [], {}
     for world, A, b in (("independent", X, y), ("default (held out)", Xd, yd)):
-        cycles = model.loop_features(A)["templates__oscillating"].fillna(0).to_numpy() > 0
+        feats[world] = model.loop_features(A)
+        cycles = feats[world]["templates__oscillating"].fillna(0).to_numpy() > 0
         part = pd.DataFrame({"world": world, "class": np.where(b == 1, "sticky", "healthy"),
                              "cycles": cycles, "stiction verdict": model.predict(A)})  # fmt: skip
         parts.append(part)
     table = pd.concat(parts).groupby(["world", "cycles", "class"])["stiction verdict"]
     print(table.agg(["size", "mean"]).unstack().to_string(float_format=fmt))
+    _stuck_look(model, feats, meta, yd)
     return 0
+
+
+# PVOPHysteresis at OP's own time scale: what reads "OP moves while PV stays" as stiction
+_SLOW = {
+    "hysteresis__stuck_share_slow": "stuck",
+    "hysteresis__moving_share_slow": "OP moving",
+    "hysteresis__hysteresis_fill_slow": "fill",
+    "hysteresis__valve_fit_band_share": "valve band",
+}
+
+
+def _stuck_look(model, feats, meta, yd):
+    """Where the false alarms on random-walk loads come from: the slow-scale PV-OP columns
+    (medians) per cause here and per class in the default world, and the share of the
+    self-regulating random-walk loops called sticky once a group of columns is replaced by
+    the values of a random quiet healthy loop of the default world (all columns of the
+    group taken from the same loop)."""
+    fmt = "{:.2f}".format
+    ind, dflt = feats["independent"], feats["default (held out)"]
+    cause = np.where(meta["cause"] == "random_walk_load", np.where(
+        meta["plant"] == "integrating", "random_walk_load (integrating)",
+        "random_walk_load (self-regulating)"), meta["cause"])  # fmt: skip
+    rows = [ind[list(_SLOW)].groupby(cause).median()]
+    cls = np.where(yd == 1, "default world: sticky", "default world: healthy")
+    rows.append(dflt[list(_SLOW)].groupby(cls).median())
+    print("\nslow-scale PV-OP columns of the learned model (medians; PVOPHysteresis):")
+    print(pd.concat(rows).rename(columns=_SLOW).to_string(float_format=fmt))
+    cols = list(model.feature_names_)
+    walk = cause == "random_walk_load (self-regulating)"
+    A = ind.loc[walk, cols].to_numpy()
+    quiet = (dflt["templates__oscillating"].fillna(0).to_numpy() == 0) & (yd == 0)
+    donors = dflt.loc[quiet, cols].to_numpy()
+    groups = {
+        "none": [],
+        "area ratio": [c for c in cols if c.startswith("area__")],
+        "templates": [c for c in cols if c.startswith("templates__")] + ["oscillating_share"],
+        "valve model": [c for c in cols if c.startswith("valve_model__")],
+        "hysteresis, fast": [f"hysteresis__{c}" for c in
+                             ("stuck_share", "moving_share", "hysteresis_fill")],
+        "hysteresis, slow": [f"hysteresis__{c}" for c in
+                             ("stuck_share_slow", "moving_share_slow", "hysteresis_fill_slow")],
+        "hysteresis, valve fit": ["hysteresis__valve_fit_gain",
+                                  "hysteresis__valve_fit_band_share"],
+    }  # fmt: skip
+    pick = donors[np.random.default_rng(0).integers(len(donors), size=len(A))]
+    out = {}
+    for group, names in groups.items():
+        B = A.copy()
+        idx = [cols.index(c) for c in names]
+        B[:, idx] = pick[:, idx]
+        out[group] = float(np.mean(model.model_.predict_proba(B)[:, 1] >= 0.5))
+    print(f"\n{int(walk.sum())} self-regulating random-walk loops called sticky, with one group "
+          "of columns taken from quiet healthy default-world loops:")  # fmt: skip
+    print(pd.Series(out, name="called sticky").to_string(float_format=fmt))
 
 
 if __name__ == "__main__":
