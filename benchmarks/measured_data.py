@@ -19,6 +19,7 @@ per tag: the share of its windows called sticky, thresholded at 0.5). "No verdic
 ``../shared/data`` is absent.
 
 Run: python benchmarks/measured_data.py [--n-cal N] [--folds K] [--no-calibrated] [--per-loop]
+[--pv-op-look]
 """
 
 import argparse
@@ -102,6 +103,10 @@ def main(argv=None):
     parser.add_argument("--folds", type=int, default=3, help="grouped folds over tags")
     parser.add_argument("--no-calibrated", action="store_true")
     parser.add_argument("--per-loop", action="store_true")
+    parser.add_argument(
+        "--pv-op-look", action="store_true",
+        help="unlabelled: slow-scale PV-OP columns here and in the default world",
+    )  # fmt: skip
     args = parser.parse_args(argv)
     loaded = load_measured()
     if loaded is None:
@@ -156,7 +161,37 @@ def main(argv=None):
             c for n in learned for c in (n, f"{n} p", f"{n} reason")]
         print("\n== every loop ==")
         print(report[cols].to_string(**fmt))
+    if args.pv_op_look:
+        pv_op_look(X)
     return 0
+
+
+# PVOPHysteresis at OP's own time scale (the columns that call a healthy loop compensating
+# a slow load sticky in benchmarks/independent_world.py)
+_SLOW = ("stuck_share_slow", "moving_share_slow", "hysteresis_fill_slow")
+
+
+def pv_op_look(X, n_sim=300):
+    """How often PV stays put while OP moves, measured against the default world; no labels.
+
+    Medians of the learned model's slow-scale hysteresis columns and the share of loops with
+    the "stuck look" (stuck share > 0.35, OP moving in > 70 % of windows, fill > 0.4), on the
+    measured loops and on ``n_sim`` default-world loops of 751 samples (seed 0), each class.
+    """
+    clf = pretrained_classifier(random_state=0)
+    Xs, ys = make_loops(n_sim, n_samples=751, random_state=0)
+    rows = {}
+    for name, A, keep in (("measured (all, no labels)", X, None),
+                          ("default world, healthy", Xs, ys == 0),
+                          ("default world, sticky", Xs, ys == 1)):  # fmt: skip
+        F = clf.loop_features(A if keep is None else A[keep])
+        F = F[[f"hysteresis__{c}" for c in _SLOW]]
+        F.columns = list(_SLOW)
+        look = (F["stuck_share_slow"] > 0.35) & (F["moving_share_slow"] > 0.7)
+        look &= F["hysteresis_fill_slow"] > 0.4
+        rows[name] = {**F.median().to_dict(), "stuck look": float(look.mean()), "n": len(F)}
+    print("\n== PV steady while OP moves, at OP's own time scale (medians) ==")
+    print(pd.DataFrame(rows).T.to_string(float_format="{:.2f}".format))
 
 
 if __name__ == "__main__":

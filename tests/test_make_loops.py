@@ -212,6 +212,21 @@ def test_every_nuisance_appears_in_both_classes(world):
                 assert 0.2 < share < 0.8, (col, value, share, count)
 
 
+def test_random_walk_load_is_small_and_drawn_alike(world):
+    # the size README and docs/realism.md cite: increments of 0.2-0.8 % of a 1 % valve
+    # move's PV change per sample, so compensating it moves OP by 0.09-0.36 % of span
+    # (one sd) over 2,000 samples; in about half the loops of either class
+    _, y, meta = world
+    std = meta["effects"].str.extract(r"RandomWalkLoad\(std=([-0-9.e]+)")[0].astype(float)
+    per_valve = (std / meta["pv_per_valve"]).dropna()
+    assert per_valve.between(0.002, 0.008).all() and len(per_valve) > 60
+    assert np.ptp(per_valve) > 0.004  # drawn over the range, not one value
+    present = std.notna().groupby(y).mean()
+    assert present.between(0.35, 0.65).all(), present
+    by_class = per_valve.groupby(y[per_valve.index]).median()
+    assert abs(by_class[0] - by_class[1]) < 0.0015, by_class
+
+
 def test_setpoint_regimes_are_what_meta_says(world):
     X, _, meta = world
     sp = X[:, :, 2]
