@@ -247,18 +247,35 @@ def test_the_feature_furthest_outside_its_range_is_named():
 def test_distance_outside_the_range_is_in_widths_of_each_range():
     clf = LearnedStictionClassifier()
     clf.feature_names_ = np.array(["a", "b", "c"], dtype=object)
-    clf.domain_low_ = np.array([0.0, 0.0, 2.0])
-    clf.domain_high_ = np.array([1.0, 10.0, 2.0])  # c: one value, its width taken as 1
+    clf.domain_low_ = np.array([1.0, 10.0, 2.0])
+    clf.domain_high_ = np.array([2.0, 20.0, 2.0])  # c: one value, its width taken as 1
     clf.domain_nan_ = np.zeros(3, dtype=bool)
     F = np.array([
-        [1.3, 12.0, 2.0],  # a 0.3 widths above, b 0.2 widths (2 units)
-        [-0.3, -2.0, 2.0],  # the same below
-        [1.3, 5.0, 2.5],  # c 0.5 above
-        [-0.3, 5.0, 1.5],  # c 0.5 below
+        [2.3, 22.0, 2.0],  # a 0.3 widths above, b 0.2 widths (2 units)
+        [0.7, 8.0, 2.0],  # the same below
+        [2.3, 15.0, 2.5],  # c 0.5 above
+        [0.7, 15.0, 1.5],  # c 0.5 below
     ])  # fmt: skip
     got = clf._range_reasons(F, np.array(["ok"] * 4, dtype=object))
     assert got.tolist() == ["out_of_domain:a", "out_of_domain:a", "out_of_domain:c",
                             "out_of_domain:c"]  # fmt: skip
+
+
+def test_coupling_rules_on_crafted_statistics(data):
+    # class docstring: below min_coupling (5) the loop is pv_op_unrelated; below 10 the
+    # coupling must also survive prewhitening (z >= 3)
+    X, _ = data
+    loops = check_loops(np.repeat(X[:1], 6, axis=0))
+    feats = pd.DataFrame({
+        "pv_op_coupling": [30.0, 7.0, 7.0, 4.0, np.nan, 7.0],
+        "pv_op_coupling_white": [np.nan, 5.0, 1.0, 5.0, np.nan, np.nan],
+        "frozen_share": [0.0, 0.0, 0.0, 0.0, 0.0, 0.9],
+    })  # fmt: skip
+    got = LearnedStictionClassifier()._hard_reasons(loops, feats)
+    assert got.tolist() == ["ok", "ok", "pv_op_unrelated", "pv_op_unrelated",
+                            "pv_op_unrelated", "pv_op_unrelated"]  # fmt: skip
+    feats.loc[5, "pv_op_coupling_white"] = 5.0  # now only too compressed
+    assert LearnedStictionClassifier()._hard_reasons(loops, feats)[5] == "too_compressed"
 
 
 def test_model_columns_replace_counts_by_the_oscillating_share():
@@ -280,6 +297,17 @@ def test_model_columns_replace_counts_by_the_oscillating_share():
 
 def test_feature_union_jobs_and_tags():
     assert make_loop_features(n_jobs=2).n_jobs == 2
+    made = learned_module.make_learned_classifier(random_state=3, C=0.5)
+    assert (made.random_state, made.C) == (3, 0.5)
+    # the documented defaults
+    params = LearnedStictionClassifier().get_params()
+    assert {k: params[k] for k in ("model", "C", "calibration", "cv", "min_samples",
+                                   "min_coupling", "max_frozen_share", "domain_quantile",
+                                   "domain_margin", "random_state", "n_jobs")} == {
+        "model": "ensemble", "C": 1.0, "calibration": "isotonic", "cv": 3, "min_samples": 200,
+        "min_coupling": 5.0, "max_frozen_share": 0.8, "domain_quantile": 0.002,
+        "domain_margin": 0.5, "random_state": None, "n_jobs": None,
+    }  # fmt: skip
     tags = LearnedStictionClassifier().__sklearn_tags__()
     assert tags.input_tags.allow_nan is True  # NaN pads loops of unequal length
     assert tags.input_tags.three_d_array is True
@@ -361,6 +389,9 @@ def test_the_domain_is_the_training_range_widened(data, model):
     names = model.feature_names_.tolist()
     assert feats.columns.tolist() == names + list(DOMAIN_STATISTICS)
     assert "oscillating_share" in names and "templates__n_cycles" not in names
+    # the four feature families of make_loop_features, named as its steps
+    steps = {n.split("__")[0] for n in names} - {"oscillating_share"}
+    assert steps == {"area", "templates", "valve_model", "hysteresis"}
     F = feats[names].to_numpy()
     lo, hi = np.nanquantile(F, [0.002, 0.998], axis=0)
     width = np.nan_to_num(hi - lo)
