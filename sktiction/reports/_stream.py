@@ -58,7 +58,7 @@ def _read(path, channels, ts, max_gap):
     """One file's loops and meta, short gaps bridged (``repair_gaps``) when asked."""
     data = read_loop_file(path, channels=channels, ts=ts)
     X, meta = data.X, data.meta.reset_index(drop=True)
-    readable = (meta["status"] == STATUS_OK).to_numpy() & (X.shape[1] > 0)
+    readable = (meta["status"].to_numpy() == STATUS_OK) & (X.shape[1] > 0)
     if max_gap is not None and readable.any():
         idx = np.flatnonzero(readable)
         repaired, info = repair_gaps(X[idx], max_gap=max_gap)
