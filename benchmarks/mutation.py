@@ -280,6 +280,9 @@ def _recheck(workdir, globs, tests, max_children, log):
         shutil.copytree(ROOT / "tests", dest, dirs_exist_ok=True)
     shutil.copy2(ROOT / "pyproject.toml", workdir / "pyproject.toml")
     _configure(workdir, globs, tests)
+    # which tests reach which function is collected again: mutmut would only add new tests
+    # to it, not what edited ones reach now
+    (workdir / "mutants" / "mutmut-stats.json").unlink(missing_ok=True)
     done = _run(workdir, max_children, log, names)
     for meta, codes in before.items():
         data = json.loads(meta.read_text())

@@ -247,14 +247,14 @@ def test_the_feature_furthest_outside_its_range_is_named():
 def test_distance_outside_the_range_is_in_widths_of_each_range():
     clf = LearnedStictionClassifier()
     clf.feature_names_ = np.array(["a", "b", "c"], dtype=object)
-    clf.domain_low_ = np.array([1.0, 10.0, 2.0])
-    clf.domain_high_ = np.array([2.0, 20.0, 2.0])  # c: one value, its width taken as 1
+    clf.domain_low_ = np.array([1.0, 0.0, 2.0])
+    clf.domain_high_ = np.array([2.0, 10.0, 2.0])  # c: one value, its width taken as 1
     clf.domain_nan_ = np.zeros(3, dtype=bool)
     F = np.array([
-        [2.3, 22.0, 2.0],  # a 0.3 widths above, b 0.2 widths (2 units)
-        [0.7, 8.0, 2.0],  # the same below
-        [2.3, 15.0, 2.5],  # c 0.5 above
-        [0.7, 15.0, 1.5],  # c 0.5 below
+        [2.3, 12.0, 2.0],  # a 0.3 widths above, b 0.2 widths (2 units)
+        [0.7, -2.0, 2.0],  # the same below
+        [2.3, 5.0, 2.5],  # c 0.5 above
+        [0.7, 5.0, 1.5],  # c 0.5 below
     ])  # fmt: skip
     got = clf._range_reasons(F, np.array(["ok"] * 4, dtype=object))
     assert got.tolist() == ["out_of_domain:a", "out_of_domain:a", "out_of_domain:c",
@@ -297,6 +297,12 @@ def test_model_columns_replace_counts_by_the_oscillating_share():
 
 def test_feature_union_jobs_and_tags():
     assert make_loop_features(n_jobs=2).n_jobs == 2
+    tags = LearnedStictionClassifier().__sklearn_tags__()
+    assert tags.input_tags.allow_nan is True  # NaN pads loops of unequal length
+    assert tags.input_tags.three_d_array is True
+
+
+def test_documented_defaults_and_the_recipes_parameters():
     made = learned_module.make_learned_classifier(random_state=3, C=0.5)
     assert (made.random_state, made.C) == (3, 0.5)
     # the documented defaults
@@ -308,9 +314,6 @@ def test_feature_union_jobs_and_tags():
         "min_coupling": 5.0, "max_frozen_share": 0.8, "domain_quantile": 0.002,
         "domain_margin": 0.5, "random_state": None, "n_jobs": None,
     }  # fmt: skip
-    tags = LearnedStictionClassifier().__sklearn_tags__()
-    assert tags.input_tags.allow_nan is True  # NaN pads loops of unequal length
-    assert tags.input_tags.three_d_array is True
 
 
 @pytest.mark.parametrize(

@@ -77,9 +77,10 @@ def test_aggressive_loops_cycle_at_their_ultimate_period():
     assert (meta["samples_per_cycle"][stiction] > per_pu[stiction]).all()
 
 
-@pytest.fixture(scope="module")
-def default_world():
-    return make_loops(150, 200, random_state=0, return_meta=True)
+def _default_world(n_loops):
+    """Each test makes its own loops: mutation runs credit a shared fixture's make_loops
+    call to the first test that uses it only."""
+    return make_loops(n_loops, 200, random_state=0, return_meta=True)[2]
 
 
 def _gain_margin(row):
@@ -98,9 +99,9 @@ def _gain_margin(row):
     return float((w180 * ti) / (k * np.hypot(1, w180 * ti)) * (1 + (w180 * t) ** 2) ** (n / 2))
 
 
-def test_aggressive_loops_have_the_gain_margin_meta_states(default_world):
+def test_aggressive_loops_have_the_gain_margin_meta_states():
     # docstring: Kc is set so that the gain margin is log-uniform in gain_margin_range
-    _, _, meta = default_world
+    meta = _default_world(150)
     aggressive = meta[(meta["cause"] == "aggressive_tuning") & (meta["plant"] != "integrating")]
     assert len(aggressive) >= 10
     for _, row in aggressive.iterrows():
@@ -109,11 +110,11 @@ def test_aggressive_loops_have_the_gain_margin_meta_states(default_world):
     assert meta.loc[meta["cause"] != "aggressive_tuning", "gain_margin"].isna().all()
 
 
-def test_how_each_loop_is_run(default_world):
+def test_how_each_loop_is_run():
     # docstring: averaging level control for half of the integrating plants (Kc x 0.1-0.5,
     # Ti x 2-10), sluggish integral action (Ti x 3-20) for a share slip_fraction of the
     # others, standard otherwise; sticky loops that are not standard slip
-    _, _, meta = default_world
+    meta = _default_world(60)
     kind = meta["loop_kind"]
     assert set(kind) == {"standard", "averaging", "sluggish"}
     averaging = meta[kind == "averaging"]
@@ -131,8 +132,8 @@ def test_how_each_loop_is_run(default_world):
     assert "sluggish" not in set(none_slow["loop_kind"])
 
 
-def test_valve_bands_and_disturbances_follow_the_docstring(default_world):
-    _, _, meta = default_world
+def test_valve_bands_and_disturbances_follow_the_docstring():
+    meta = _default_world(150)
     sticky = meta[meta["cause"] == "stiction"]
     ratio = (sticky["J"] / sticky["S"]).to_numpy()
     relay = (sticky["valve"] == "relay").to_numpy()
@@ -181,8 +182,8 @@ recording record_length initial_op pv_scale pv_center warmup pv_per_valve slip_s
 stiction_visible""".split()
 
 
-def test_default_world_meta_has_the_documented_columns(default_world):
-    _, _, meta = default_world
+def test_default_world_meta_has_the_documented_columns():
+    meta = _default_world(20)
     assert set(DOCUMENTED) <= set(meta.columns)
     # a positive process gain needs a reverse-acting controller
     np.testing.assert_array_equal(meta["action"] == "reverse", meta["gain"] > 0)
