@@ -174,7 +174,9 @@ TARGETED = {
         "tests/test_realism.py::test_calibrated_world_settings_reach_the_loops",
         "tests/test_generators_meta.py",
     ],
-    "sktiction/datasets/_examples.py": ["tests/test_example.py"],
+    "sktiction/datasets/_examples.py": [
+        "tests/test_example.py", "tests/test_mutation_examples.py",
+    ],
     "sktiction/datasets/_plant_examples.py": ["tests/test_mutation_examples.py"],
 }  # fmt: skip
 
