@@ -263,8 +263,11 @@ def pv_op_coupling(pv, op, sp=None, *, prewhiten=0):
     y = np.diff(op)[1:]
     if y.size < 10 or np.ptp(y) == 0:
         return np.nan
+    # de[t] = err[t] - err[t - 1]: the error at lags 0 and 1 and its increment at lag 1
+    # span the increments at lags 0 and 1 too, without a redundant column that would
+    # give the F-test one numerator degree of freedom too many
     de = np.diff(err)
-    A = np.column_stack([de[1:], de[:-1], err[2:], err[1:-1], np.ones(y.size)])
+    A = np.column_stack([de[:-1], err[2:], err[1:-1], np.ones(y.size)])
     if prewhiten:
         p = int(min(prewhiten, max(1, y.size // 20)))
         lagged = np.column_stack([y[p - 1 - k : y.size - 1 - k] for k in range(p)])
