@@ -16,6 +16,7 @@ from scipy import stats
 from sklearn.calibration import CalibratedClassifierCV
 from sklearn.dummy import DummyClassifier
 from sklearn.ensemble import HistGradientBoostingClassifier, VotingClassifier
+from sklearn.exceptions import DataConversionWarning
 from sklearn.linear_model import LogisticRegression
 from sklearn.pipeline import Pipeline
 from sklearn.preprocessing import StandardScaler
@@ -533,6 +534,17 @@ def test_fit_forgets_the_record_length_of_an_earlier_fit(data):
     assert clf.n_features_in_ == X.shape[1]  # what scikit-learn records for 2-D input
     clf.fit(X, labels)  # 3-D loops may have any length: the stale count must go
     assert not hasattr(clf, "n_features_in_")
+
+
+def test_ten_usable_loops_are_enough_and_a_column_of_labels_is_warned_about(data):
+    # fit's message: "need at least 10 of both classes"; scikit-learn warns when y is a
+    # column vector and ravels it
+    X, labels = data
+    ten = np.r_[np.flatnonzero(labels == "stiction")[:5], np.flatnonzero(labels == "healthy")[:5]]
+    clf = LearnedStictionClassifier(max_iter=5, cv=2, random_state=0)
+    assert clf.fit(X[ten], labels[ten]).classes_.tolist() == ["healthy", "stiction"]
+    with pytest.warns(DataConversionWarning):
+        clf.fit(X[ten], labels[ten, None])
 
 
 def test_features_in_parallel_chunks_are_the_same(data, model):
