@@ -376,7 +376,10 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         ... widened by this share of its width on each side; a loop with a feature
         outside gets ``out_of_domain:<feature>``. ``None`` turns the range check off.
     random_state : int or None, default=None
-        Seed of the booster.
+        Seed of the booster. With the defaults it changes nothing: scikit-learn's
+        booster draws only for early stopping (off below 10,000 loops) and for bin
+        subsampling (above 200,000), and the calibration folds are not shuffled, so
+        the model is a function of its training loops alone.
     n_jobs : int or None, default=None
         Processes for the features (loops are split into chunks).
 
@@ -764,7 +767,8 @@ def make_learned_classifier(random_state=None, **params):
     Parameters
     ----------
     random_state : int or None, default=None
-        Seed of the booster.
+        Seed of the booster (no effect with the defaults: see
+        :class:`LearnedStictionClassifier`).
     **params
         Other parameters of :class:`LearnedStictionClassifier`.
 
