@@ -115,3 +115,83 @@ def test_horch_filter_gain_is_that_of_eq_23_run_twice():
     assert np.allclose(horch_filter(steps, 20), horch_filter(steps.astype(float), 20))
     for no_period in (np.nan, 0, -5):
         assert np.array_equal(horch_filter(x, no_period), x)
+
+
+def _same_bits(a, b):
+    """Equal values, NaN in the same places, and the same dtype."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and np.array_equal(a, b, equal_nan=True)
+
+
+def test_fast_median_is_numpys_median_to_the_bit():
+    from sktiction.cycles._signal import fast_median
+
+    rng = np.random.default_rng(0)
+    cases = [
+        [7.5],  # one sample
+        [2.0, -1.0],  # two: the mean of both
+        [3.0, 1.0, 2.0],  # odd: the middle
+        [4.0, 1.0, 3.0, 2.0],  # even: the mean of the two middles
+        [0.1, 0.2, 0.3, 0.7],  # a mean that rounds (0.2 + 0.3) / 2
+        [1.0, 1.0, 1.0, 5.0, 5.0],  # ties
+        [-3.0, -2.0, 1e300, 1e300],  # the two middles' sum overflows: inf, as numpy
+        rng.normal(size=101),
+        rng.normal(size=100),
+        np.round(rng.normal(size=1000), 1),  # many ties, as a quantised record
+    ]
+    for x in cases:
+        x = np.asarray(x, dtype=float)
+        with np.errstate(over="ignore"):
+            assert _same_bits(fast_median(x), np.median(x)), x
+            assert _same_bits(fast_median(-x), np.median(-x)), x
+    # integers are averaged as floats (numpy's dtype), float32 stays float32
+    for x in ([3, 1, 2], [4, 1, 3, 2], [2**53 + 1, 1, 2**53 + 1, 5]):
+        x = np.asarray(x)
+        assert _same_bits(fast_median(x), np.median(x)), x
+    x = np.asarray([0.1, 0.2, 0.3, 0.7], dtype=np.float32)
+    assert _same_bits(fast_median(x), np.median(x))
+    assert fast_median(x).dtype == np.float32
+    # NaN anywhere gives NaN (numpy's answer); an empty array NaN with numpy's warning
+    assert np.isnan(fast_median([1.0, np.nan, 3.0]))
+    assert np.isnan(fast_median([np.nan, 1.0]))
+    with pytest.warns(RuntimeWarning):
+        assert np.isnan(fast_median(np.array([])))
+
+
+def test_fast_percentile_is_numpys_linear_percentile_to_the_bit():
+    from sktiction.cycles._signal import fast_percentile
+
+    rng = np.random.default_rng(1)
+    qs = [1, 5, 25, 50, 75, 95, 99, 0.5, 99.5, 100 / 3]
+    cases = [
+        [2.0, -1.0],  # two samples: a straight interpolation
+        [3.0, 1.0, 2.0],  # q = 25 and 75 fall half-way (t = 0.5: numpy's upper branch)
+        [0.1, 0.7, 0.3, 0.2],
+        [1.0, 1.0, 1.0, 5.0, 5.0],  # ties
+        rng.normal(size=7),
+        rng.normal(size=100),
+        rng.normal(size=1001) * 1e3,
+        np.round(rng.normal(size=500), 1),
+    ]
+    for x in cases:
+        x = np.asarray(x, dtype=float)
+        got = fast_percentile(x, qs)
+        assert got.shape == (len(qs),)
+        assert _same_bits(got, np.percentile(x, qs)), x
+        lo, hi = fast_percentile(x, [5, 95])
+        assert lo <= hi
+    # t = 0.5 exactly, where numpy's two formulas round differently: b - d / 2, not a + d / 2
+    x = np.array([0.1, 0.7, 1e16 + 2.0])
+    for q in (25, 75):
+        assert _same_bits(fast_percentile(x, [q]), np.percentile(x, [q]))
+    # one sample, integers, float32 and NaN: numpy's own answer
+    for x in ([4.0], [3, 1, 2, 10], np.array([0.1, 0.2, 0.7], dtype=np.float32), [1.0, np.nan]):
+        assert _same_bits(fast_percentile(x, [5, 50, 95]), np.percentile(x, [5, 50, 95])), x
+    # NaN anywhere makes every percentile NaN, not only those read next to it
+    assert np.isnan(fast_percentile([1.0, 2.0, 3.0, np.nan, 4.0], [5, 50, 95])).all()
+
+
+def test_noise_std_of_integers_is_that_of_their_values():
+    # small integer types (ADC counts) would wrap in their second differences
+    x = np.array([0, 120, -120, 100, -110, 90, 0, 127, -128, 5] * 20, dtype=np.int8)
+    assert noise_std(x) == noise_std(x.astype(float)) > 0
