@@ -445,3 +445,64 @@ def test_components_stay_strongest_first_after_the_cycles_evidence():
     detected = [round(c.period) for c in detect_oscillations(x)]
     assert detected != [round(c.period) for c in a.components]
     assert sorted(detected) == sorted(round(c.period) for c in a.components)
+
+
+def _regular_runs_numpy(periods, tolerance):
+    """The numpy form of _regular_runs (before its numba kernel): median of five, reflected."""
+    padded = np.pad(periods, 2, mode="reflect")
+    local = np.median(np.lib.stride_tricks.sliding_window_view(padded, 5), axis=1)
+    regular = np.abs(periods - local) <= tolerance * local
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], regular.astype(int), [0]])))
+    return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2])]
+
+
+def test_regular_runs_kernel_matches_the_numpy_median_of_five():
+    rng = np.random.default_rng(3)
+    for trial in range(300):
+        n = int(rng.integers(3, 30))
+        periods = np.round(rng.uniform(80, 160, n), -1 if trial % 2 else 1)  # ties, or not
+        if trial % 10 == 0:
+            periods[rng.integers(n)] = np.nan  # an undefined period breaks its neighbours
+        tolerance = (0.0, 0.1, 0.25, 0.5)[trial % 4]
+        assert _regular_runs(periods, tolerance) == _regular_runs_numpy(periods, tolerance)
+    # integer periods are periods, and the bound is included at zero tolerance in both
+    # branches (one or two cycles: their common median; three or more: the kernel)
+    assert _regular_runs(np.array([100, 100, 120, 100]), 0.2) == [(0, 4)]
+    assert _regular_runs(np.array([5.0]), 0.0) == [(0, 1)]
+    assert _regular_runs(np.array([5.0, 5.0]), 0.0) == [(0, 2)]
+    assert _regular_runs(np.array([5.0, 5.0, 5.0]), 0.0) == [(0, 3)]
+
+
+def _segments_numpy(centred, crossings, peaks, kept):
+    """The numpy form of _segments (before its numba kernel)."""
+    runs = []
+    for k in kept:
+        if runs and k <= runs[-1][1]:
+            runs[-1][1] = k + 2
+        else:
+            runs.append([k, k + 2])
+    height, durations = np.abs(centred[peaks]), np.diff(crossings)
+    out = []
+    for first, last in runs:
+        ref_h, ref_d = np.median(height[first:last]), np.median(durations[first:last])
+        start, end = crossings[first], crossings[last]
+        if first > 0 and height[first - 1] >= 0.5 * ref_h and durations[first - 1] <= 1.5 * ref_d:
+            start = crossings[first - 1]
+        if last < peaks.size and height[last] >= 0.5 * ref_h and durations[last] <= 1.5 * ref_d:
+            end = crossings[last + 1]
+        out.append((int(np.floor(start)), int(np.ceil(end)) + 1))
+    return out
+
+
+def test_segments_kernel_matches_the_numpy_medians():
+    rng = np.random.default_rng(4)
+    for _ in range(200):
+        n_halves = int(rng.integers(3, 25))
+        durations = rng.uniform(5, 20, n_halves)
+        crossings = np.concatenate([[rng.uniform(0, 3)], rng.uniform(0, 3) + np.cumsum(durations)])
+        peaks = np.floor(crossings[:-1] + durations / 2).astype(int)
+        centred = rng.normal(0, 2, int(crossings[-1]) + 2)
+        kept = np.flatnonzero(rng.random(n_halves - 1) < 0.4)
+        assert _segments(centred, crossings, peaks, kept) == _segments_numpy(
+            centred, crossings, peaks, kept
+        )

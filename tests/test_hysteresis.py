@@ -161,3 +161,27 @@ def test_slow_columns_use_a_quarter_of_the_time_scale():
     np.testing.assert_allclose(row[3:5], stuck_share(pv, op, 25))
     assert row[5] == pytest.approx(hysteresis_fill(err, op, 25, np.nan))
     np.testing.assert_allclose(row[6:], valve_fit(pv, op, 25))
+
+
+def test_moves_must_exceed_three_noise_sds_and_2_percent_of_the_5_95_spread():
+    w, inner = 8, slice(20, -20)  # away from the moving mean's repeated edges
+    # the noise term alone (spread 0): limit 3 * 1 * sqrt(2 / 8) = 1.5 for a unit noise
+    assert (_moves(0.2 * T[:400], w, (1.0, 0.0))[inner] == 1).all()  # 1.6 per window
+    assert (_moves(0.1875 * T[:400], w, (1.0, 0.0))[inner] == 0).all()  # exactly 1.5
+    assert (_moves(-0.2 * T[:400], w, (1.0, 0.0))[inner] == -1).all()
+    # a noise-free ramp of 1000 samples: 5-95 % spread 0.9 * 999, limit 17.982 per window
+    ramp = T[:1000] + 0.0
+    assert (_moves(ramp, 18)[inner] == 1).all()
+    assert (_moves(ramp, 17)[inner] == 0).all()
+
+
+def test_transform_loop_gives_the_row_of_transform():
+    from sktiction._validation import check_loops
+
+    t = np.arange(3000)
+    op = 50 + 10 * (2 * np.abs((t % 300) / 300 - 0.5) - 0.5)
+    pv = np.clip(np.round(op / 3) * 3, 0, 100)
+    loops = check_loops(np.stack([pv, op, np.full(3000, 50.0)], axis=1)[None])
+    est = PVOPHysteresis().fit(loops)
+    row = est._transform_loop(loops, 0, 3000)
+    assert np.array_equal(np.asarray(row, dtype=float), est.transform(loops)[0], equal_nan=True)
