@@ -233,6 +233,19 @@ def test_date_and_time_columns_and_the_historians_time_format(tmp_path):
     assert "day/month or month/day" not in meta.loc[0, "reason"]
 
 
+def test_a_declared_day_first_pattern_the_dates_contradict_is_overruled_with_a_note():
+    from sktiction.datasets._timestamps import parse_times
+
+    # hourly stamps written month first under a day-first header: from the 13th of
+    # January on the declared pattern cannot read them, and the whole column settles it
+    stamps = pd.date_range("2024-01-01", periods=480, freq="h")
+    raw = pd.Series(stamps.strftime("%m/%d/%Y %H:%M:%S"))
+    t, start, notes = parse_times(raw, time_format="%d/%m/%Y %H:%M:%S")
+    assert np.array_equal(t, 3600.0 * np.arange(480))
+    assert str(start) == "2024-01-01 00:00:00"
+    assert notes == ["the declared date pattern does not fit 192 values: read month first"]
+
+
 def test_resampling_holds_the_mode_and_strict_only_reports(tmp_path):
     f = _write(tmp_path / "a.csv", "t,PV,OP,MODE\n0,1,10,1\n1,2,20,1\n2,3,30,0\n3.5,4,40,1\n"
                "4,5,50,1\n5,6,60,1\n6,7,70,1\n")  # fmt: skip

@@ -147,15 +147,22 @@ def _text_times(raw, time_format):
         fmt = candidates[best]
     notes = []
     stamps = _parse_all(raw, fmt, clean)
-    if "%d/%m" in fmt and fmt != time_format:
-        # The sample may hold only days <= 12: the whole column settles the order. A
-        # format the file declares is its word on the order: no guess, no note.
+    if "%d/%m" in fmt:
+        # The sample may hold only days <= 12: the whole column settles the order, also
+        # against a declared pattern that the data contradict. Where the data allow both
+        # orders, a declared pattern is the file's word and needs no note.
         other = fmt.replace("%d/%m", "%m/%d")
         if stamps.isna().sum() > raw.isna().sum():
             swapped = _parse_all(raw, other, clean)
             if swapped.isna().sum() < stamps.isna().sum():
+                if fmt == time_format:
+                    missed = int(stamps.isna().sum() - raw.isna().sum())
+                    notes.append(
+                        f"the declared date pattern does not fit {missed} values: "
+                        "read month first"
+                    )
                 stamps, fmt = swapped, other
-        elif _fits(sample, other):
+        elif _fits(sample, other) and fmt != time_format:
             notes.append("dates could be day/month or month/day: read day first")
     if getattr(stamps.dt, "tz", None) is not None:
         stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
