@@ -14,7 +14,7 @@ computed once and every model reads them (``_diagnose_features``, the method beh
 ``diagnose``).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws]`` (default 10;
-about a minute per draw on 2 cores).
+10-30 s per draw on 2 idle cores).
 """
 
 import sys

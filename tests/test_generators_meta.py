@@ -64,9 +64,10 @@ def test_plant_family_names_the_plant():
     assert (meta.loc[~integrating, "order"] > 2).any()  # the higher-order family is reached
 
 
-def test_aggressive_loops_cycle_at_their_ultimate_period():
-    # a loop tuned to the edge of stability cycles at its phase crossover; every loop is
-    # sampled at least 4 times per ultimate period (slower is not controlled)
+def test_meta_gives_aggressive_loops_their_ultimate_period_as_cycle():
+    # meta only, checked against itself: a loop tuned to the edge of stability is drawn
+    # to cycle at its phase crossover (in X the noise and the loads blur that period);
+    # every loop is sampled at least 4 times per ultimate period (slower is not controlled)
     _, _, meta = make_loops(60, 300, random_state=3, return_meta=True)
     per_pu = meta["samples_per_ultimate_period"].to_numpy()
     assert per_pu.min() >= 4 - 1e-9
