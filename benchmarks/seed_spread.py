@@ -49,7 +49,11 @@ def _evaluation_sets(clf):
     out = {}
     for name, (X, y, groups) in sets.items():
         loops = check_loops(X)
-        out[name] = (loops, clf._features(normalise_loops(loops)), np.asarray(y), groups)
+        feats = clf._features(normalise_loops(loops))
+        # the shortcut must give what a user gets from diagnose()
+        shortcut = clf._diagnose_features(loops[:20], feats.iloc[:20].reset_index(drop=True))
+        pd.testing.assert_frame_equal(shortcut, clf.diagnose(X[:20]))
+        out[name] = (loops, feats, np.asarray(y), groups)
     return out
 
 
