@@ -437,3 +437,20 @@ def test_candidates_are_peaks_of_the_spectrum_and_of_its_slope():
     # 10 * 100**2 beats 40 * 40**2 and 0.5 * 300**2
     three = _spectrum({40: 40.0, 100: 10.0, 300: 0.5})
     assert _candidates(three, 20, 390, 1) == [40, 100]
+
+
+def test_background_sides_start_at_k_min_and_the_fallback_is_the_mean_above_it():
+    # exact log-averages (the running sum log_cum[j] is the sum of log power[:j])
+    from sktiction.cycles._oscillation import _background
+
+    power = np.random.default_rng(5).exponential(size=200)
+    log_cum = np.concatenate([[0.0], np.cumsum(np.log(power))])
+    gamma = np.euler_gamma
+    # records of 1000 samples: spectrum of 2000 points, k_min = 1.5 * 2000 / 1000 = 3 bins
+    # exactly; at k = 9 the lower side is bins 3-5 (k/3 to k/1.7, three bins: enough), the
+    # upper one bins 16-27 (1.7 k to 3 k)
+    low, high = np.log(power[3:6]).mean(), np.log(power[16:28]).mean()
+    assert _background(log_cum, 9, 3.0) == pytest.approx(np.exp(0.5 * (low + high) + gamma))
+    # a short spectrum with neither side in range: the mean from k_min to the end
+    short = log_cum[:10]
+    assert _background(short, 4, 3.0) == pytest.approx(np.exp(np.log(power[3:9]).mean() + gamma))
