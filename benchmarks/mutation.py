@@ -255,13 +255,15 @@ def _all_mutants(workdir):
     return names
 
 
-def _sample_run(workdir, max_children, log, size, seed):
+def _sample_run(workdir, max_children, log, size, seed, exclude=()):
     """Generate the mutants and the tests' coverage (a name that matches nothing stops
-    mutmut right after), then run ``size`` of them drawn at random with ``seed``."""
+    mutmut right after), then run ``size`` of them drawn at random with ``seed`` from
+    those not in ``exclude`` (an earlier sample whose survivors tests were written
+    against: re-running it measures those tests, not the file)."""
     _run(workdir, max_children, log, ["no-such-mutant-only-generate"])
-    names = _all_mutants(workdir)
+    names = [n for n in _all_mutants(workdir) if n not in set(exclude)]
     if not names:
-        sys.exit(f"mutmut generated no mutants; see {log}")
+        sys.exit(f"mutmut generated no mutants to draw from; see {log}")
     chosen = sorted(random.Random(seed).sample(names, min(size, len(names))))
     (workdir / "sample.json").write_text(json.dumps({"seed": seed, "of": len(names),
                                                      "names": chosen}))  # fmt: skip
@@ -348,6 +350,8 @@ def main(argv=None):
     p.add_argument("--sample", type=int, default=None,
                    help="run only this many mutants, drawn at random (see --seed)")  # fmt: skip
     p.add_argument("--seed", type=int, default=0, help="seed of --sample")
+    p.add_argument("--exclude-sample", type=Path, default=None, metavar="WORKDIR",
+                   help="an earlier sampled run: draw --sample from other mutants")  # fmt: skip
     p.add_argument("--recheck", action="store_true",
                    help="run the last survivors again against the current tests")  # fmt: skip
     args = p.parse_args(argv)
@@ -369,7 +373,11 @@ def main(argv=None):
         _configure(workdir, globs, tests)
         log = workdir / "mutmut.log"
         if args.sample:
-            done = _sample_run(workdir, args.max_children, log, args.sample, args.seed)
+            earlier = _sample(args.exclude_sample) if args.exclude_sample else {"names": ()}
+            if earlier is None:
+                sys.exit(f"no sample.json in {args.exclude_sample}")
+            exclude = earlier["names"]
+            done = _sample_run(workdir, args.max_children, log, args.sample, args.seed, exclude)
         else:
             done = _run(workdir, args.max_children, log)
         if done.returncode != 0:
