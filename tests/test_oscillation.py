@@ -442,3 +442,20 @@ def test_background_sides_start_at_k_min_and_the_fallback_is_the_mean_above_it()
     # a short spectrum with neither side in range: the mean from k_min to the end
     short = log_cum[:10]
     assert _background(short, 4, 3.0) == pytest.approx(np.exp(np.log(power[3:9]).mean() + gamma))
+
+
+def test_a_harmonic_must_carry_less_than_its_fundamental():
+    # _harmonic's docstring: the 2nd-5th harmonic (within 2 %) of a slower oscillating
+    # component that carries more of the signal; a faster one that carries more is its own
+    from types import SimpleNamespace
+
+    from sktiction.cycles._oscillation import _harmonic
+
+    slow = SimpleNamespace(index=0.9, period=90.0, share=0.6)
+    third = SimpleNamespace(index=0.8, period=30.0, share=0.2)
+    assert _harmonic(third, slow, 0.5)
+    assert not _harmonic(SimpleNamespace(index=0.8, period=30.0, share=0.7), slow, 0.5)
+    assert not _harmonic(SimpleNamespace(index=0.8, period=31.0, share=0.2), slow, 0.5)  # 2.9
+    assert not _harmonic(third, SimpleNamespace(index=0.5, period=90.0, share=0.6), 0.5)
+    assert not _harmonic(SimpleNamespace(index=0.8, period=15.0, share=0.2), slow, 0.5)  # 6th
+
