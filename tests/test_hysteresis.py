@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from sktiction.cycles import dominant_period
 from sktiction.features import PVOPHysteresis
 from sktiction.features.hysteresis import (
     FEATURES,
@@ -41,16 +42,16 @@ def _valve_loop(band, span=20.0):
 
 
 def test_window_is_a_32nd_of_the_period_or_of_the_record():
-    assert _window(_sine(320), 4000) == (10, pytest.approx(320, abs=1))
-    w, period = _window(_sine(1000), 4000)
+    assert _window(dominant_period(_sine(320)), 4000) == (10, pytest.approx(320, abs=1))
+    w, period = _window(dominant_period(_sine(1000)), 4000)
     assert w == 31 and period == pytest.approx(1000, abs=2)
-    assert _window(_sine(64), 4000)[0] == 2  # 64 / 32 = 2, the smallest window
+    assert _window(dominant_period(_sine(64)), 4000)[0] == 2  # 64 / 32 = 2, the smallest window
     noise = np.random.default_rng(0).normal(size=40000)
-    w, period = _window(noise, 40000)
+    w, period = _window(dominant_period(noise), 40000)
     assert w == 100 and np.isnan(period)  # no period: n / 400
-    assert _window(noise[:4000], 4000)[0] == 10
-    assert _window(noise[:300], 300)[0] == 2  # n / 400 < 1
-    assert _window(noise[:1002], 1002)[0] == 3  # 2.505 rounds up
+    assert _window(dominant_period(noise[:4000]), 4000)[0] == 10
+    assert _window(dominant_period(noise[:300]), 300)[0] == 2  # n / 400 < 1
+    assert _window(dominant_period(noise[:1002]), 1002)[0] == 3  # 2.505 rounds up
 
 
 def test_time_scale_is_where_the_autocorrelation_halves():

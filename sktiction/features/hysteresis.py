@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..cycles import autocorrelation, dominant_period, moving_average, noise_std, remove_mean
+from ..cycles import autocorrelation, moving_average, noise_std, remove_mean
 from ..cycles._signal import fast_median, fast_percentile
 from ._loops import LoopAnalysis, LoopTransformer
 from .stiction_model import fit_stiction_band
@@ -43,13 +43,14 @@ FEATURES = (
 )
 
 
-def _window(x, n, dominant=None):
+def _window(dominant, n):
     """Smoothing/increment window: 1/32 of the dominant period, else n / 400 (>= 2).
 
     Short enough that a stuck stretch of a small band is not smoothed into a ramp.
-    ``dominant`` is :func:`~sktiction.cycles.dominant_period` of ``x`` when known.
+    ``dominant`` is :func:`~sktiction.cycles.dominant_period` of the signal (period,
+    strength), ``n`` its length.
     """
-    period, strength = dominant_period(x) if dominant is None else dominant
+    period, strength = dominant
     if np.isfinite(period) and strength > 0.2:
         return int(np.clip(round(period / 32), 2, max(2, n // 20))), period
     return int(np.clip(round(n / 400), 2, max(2, n // 20))), np.nan
@@ -193,7 +194,7 @@ class PVOPHysteresis(LoopTransformer):
     def _transform_analysis(self, analysis):
         # OP's dominant period: shared with its cycle analysis when that needed it too
         op, pv, n = analysis.signal("op"), analysis.signal("pv"), analysis.n
-        w, period = _window(op, n, analysis.dominant_period("op"))
+        w, period = _window(analysis.dominant_period("op"), n)
         scales = (_move_scale(pv), _move_scale(op))
         stuck, moving = stuck_share(pv, op, w, scales)
         row = [stuck, moving, hysteresis_fill(pv, op, w, period)]
