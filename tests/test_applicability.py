@@ -16,6 +16,8 @@ from sktiction.classifiers.applicability import (
     assess_applicability,
 )
 from sktiction.datasets import make_loops, read_loops
+from sktiction.realism import loop_statistics
+from sktiction.realism.statistics import _repeat_fractions
 
 DATA = Path(os.environ.get("SKTICTION_DATA", Path(__file__).parents[2] / "shared" / "data"))
 
@@ -460,3 +462,58 @@ def test_result_columns_and_types():
     bunch = Bunch(X=X, meta=pd.DataFrame({"ts": [3, 4]}))
     assert assess_applicability(bunch, ts=9.0)["ts"].tolist() == [9.0, 9.0]
     assert assess_applicability(bunch)["ts"].dtype == float
+
+
+REPEATS = ["pv_repeat_fraction", "op_repeat_fraction"]
+
+
+def _badly_recorded(n_loops=24, n_samples=1500, random_state=0):
+    """Closed loops with held rows, quantised tags and single-sample spikes, some of them
+    inside held runs (where replacing the spike first changes the repeat count)."""
+    rng = np.random.default_rng(random_state)
+    X, _ = make_loops(n_loops, n_samples=n_samples, short_fraction=0.0, random_state=random_state)
+    for i in range(n_loops):
+        if i % 3 != 2:
+            X[i] = _held(X[i], rng.uniform(0.1, 0.6), rng)
+        for c in (0, 1):
+            if i % 2:
+                q = np.std(X[i, :, c]) * rng.uniform(0.05, 0.5)
+                X[i, :, c] = np.round(X[i, :, c] / q) * q
+            hit = rng.choice(np.arange(2, n_samples - 2), int(rng.integers(1, 15)), replace=False)
+            X[i, hit, c] += rng.choice([-1, 1], len(hit)) * rng.uniform(3, 10) * np.std(X[i, :, c])
+    return X
+
+
+def test_gate_repeat_fractions_are_loop_statistics():
+    """The gate's repeat shares are loop_statistics' on the loops it measures, to the bit
+    (one definition: spikes are replaced before repeats are counted)."""
+    X = _badly_recorded()
+    gate = assess_applicability(X)
+    reached = gate["pv_repeat_fraction"].notna().to_numpy()
+    assert reached.sum() >= 20 and gate["reason"][reached].nunique() >= 2
+    normalised = np.full_like(X, np.nan)  # each loop as the gate measures it
+    for i in np.flatnonzero(reached):
+        reason, normalised[i] = applicability._prepare(X[i])
+        assert reason is None
+    stats = loop_statistics(normalised[reached])
+    np.testing.assert_array_equal(gate.loc[reached, REPEATS].to_numpy(), stats[REPEATS].to_numpy())
+    # the spikes matter: counted before they are replaced, the shares would differ
+    raw = [(np.diff(x[:, :2], axis=0) == 0).mean(axis=0) for x in normalised[reached]]
+    assert (np.array(raw) != gate.loc[reached, REPEATS].to_numpy()).any(axis=1).sum() >= 5
+
+
+def test_repeat_fractions_are_loop_statistics_with_gaps_and_missing_channels():
+    """NaN exactly where loop_statistics has none to give (short loop, no PV, no OP)."""
+    X = _badly_recorded(12, n_samples=600, random_state=1)
+    X[0, 300:] = np.nan  # padding
+    X[1, 100:140, 0] = np.nan  # gaps bridged
+    X[2, :20, 1] = np.nan
+    X[3, :, 1] = np.nan  # no OP
+    X[4, 7:] = np.nan  # 7 samples: no statistics
+    X[5, 8:] = np.nan  # 8 samples: statistics
+    X[6, :, 0] = np.nan  # no PV
+    X[7, :, 2] = np.nan  # no SP
+    stats = loop_statistics(X)
+    got = [_repeat_fractions(x[:n]) for x, n in zip(X, stats["n_samples"])]
+    np.testing.assert_array_equal(np.array(got), stats[REPEATS].to_numpy())
+    assert np.isnan(np.array(got)[[3, 4, 6]]).sum() == 5  # OP only; both; both

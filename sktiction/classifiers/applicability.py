@@ -31,8 +31,10 @@ Every threshold is a chance level or a physical bound, none is fitted to measure
 - ``too_compressed``: fewer than :data:`MIN_SAMPLES` rows in which PV or OP moved (the
   rest are holds: the informative record is shorter than the shortest one analysed), or PV
   or OP changes on fewer than :data:`MIN_CHANGES` samples (fewer than the 32 points one
-  cycle is averaged into for template matching). Repeat shares come from
-  :func:`sktiction.realism.loop_statistics`, the statistics the realism tools read too.
+  cycle is averaged into for template matching). Repeat shares are those of
+  :func:`sktiction.realism.loop_statistics` (same definition, one implementation: NaN gaps
+  bridged and spikes replaced before repeats are counted), computed without its other
+  statistics.
 - ``constant_pv``, ``constant_op``, ``no_op``, ``nan_gap``, ``empty``, ``not_finite``:
   what they say (``not_finite``: an infinite value, or values so large that their spread
   overflows).
@@ -48,6 +50,8 @@ import pandas as pd
 from numpy.lib.stride_tricks import sliding_window_view
 
 from .._validation import OP, PV, SP, STATUS_EMPTY, STATUS_NAN_GAP, STATUS_OK, STATUS_TOO_SHORT
+from ..cycles._signal import fast_percentile
+from ..realism.statistics import _repeat_fractions
 
 __all__ = [
     "ALPHA",
@@ -130,7 +134,8 @@ def _as_loops(X):
 
 def _robust_spread(x):
     """Interquartile range as a standard deviation; the sd when most samples share a value."""
-    q1, q3 = np.percentile(x, [25, 75])
+    # fast_percentile: np.percentile's numbers (a zero's sign aside, lost in the spread)
+    q1, q3 = fast_percentile(x, [25, 75])
     spread = (q3 - q1) / 1.349
     if not spread > 0:
         spread = np.std(x)
@@ -156,7 +161,7 @@ def _quantisation_snr_db(x):
     on_grid = np.mean(np.abs(ratio - np.round(ratio)) < _GRID_TOLERANCE)
     if on_grid < _GRID_SHARE:
         return np.inf
-    q1, q3 = np.percentile(x, [25, 75])
+    q1, q3 = fast_percentile(x, [25, 75])
     sd = (q3 - q1) / 1.349
     if sd <= 0:
         return -np.inf
@@ -257,13 +262,14 @@ def _prepare(x):
     return None, out
 
 
-def _decide(x, stats):
-    """Statistics and reason of one normalised loop (``stats``: its loop_statistics row)."""
+def _decide(x):
+    """Statistics and reason of one normalised loop."""
     n = len(x)
     pv, op, sp = x[:, PV], x[:, OP], x[:, SP]
+    pv_rep, op_rep = _repeat_fractions(x)
     row = {
-        "pv_repeat_fraction": float(stats["pv_repeat_fraction"]),
-        "op_repeat_fraction": float(stats["op_repeat_fraction"]),
+        "pv_repeat_fraction": float(pv_rep),
+        "op_repeat_fraction": float(op_rep),
         "pv_quantisation_snr_db": _quantisation_snr_db(pv),
         "op_quantisation_snr_db": _quantisation_snr_db(op),
     }
@@ -327,7 +333,8 @@ def assess_applicability(X, ts=None):
           coherence over its chance level (unrelated signals exceed 1 with
           probability :data:`ALPHA`).
         - ``pv_repeat_fraction``, ``op_repeat_fraction``: share of samples equal
-          to the one before (:func:`sktiction.realism.loop_statistics`).
+          to the one before, spikes replaced first (as in
+          :func:`sktiction.realism.loop_statistics`).
         - ``n_changes``: samples on which the less lively of PV and OP changes.
         - ``pv_quantisation_snr_db``, ``op_quantisation_snr_db``: signal to
           quantisation noise ratio (``inf`` when the values sit on no grid).
@@ -360,22 +367,13 @@ def assess_applicability(X, ts=None):
     present = ~np.isnan(loops[:, :, PV])
     lengths = np.where(present.any(axis=1), n_samples - np.argmax(present[:, ::-1], axis=1), 0)
     rows = [dict.fromkeys(APPLICABILITY_COLUMNS, np.nan) for _ in range(n_loops)]
-    normalised = np.full_like(loops, np.nan)
-    todo = []
     for i, n in enumerate(lengths):
         rows[i]["n_samples"] = int(n)
         reason, x = _prepare(loops[i, :n])
         if reason is None:
-            normalised[i, :n] = x
-            todo.append(i)
+            rows[i].update(_decide(x))
         else:
             rows[i].update(applicable=False, reason=reason)
-    if todo:
-        from ..realism import loop_statistics  # one set of per-loop statistics, two users
-
-        stats = loop_statistics(normalised[todo]).to_dict("records")
-        for i, st in zip(todo, stats):
-            rows[i].update(_decide(normalised[i, : lengths[i]], st))
     out = pd.DataFrame(rows, columns=list(APPLICABILITY_COLUMNS))
     out["applicable"] = out["applicable"].astype(bool)
     out["n_samples"] = out["n_samples"].astype(int)

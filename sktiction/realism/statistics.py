@@ -1,8 +1,9 @@
 """Per-loop statistics of recording artefacts, noise, setpoint regime and PV-OP relation.
 
-One set of statistics, computed once per loop, read by two users: :func:`compare` (which
-effect of the simulated world differs from measured loops) and the applicability check
-(is a loop fit for a verdict). Each statistic is made *specific*: it answers to one effect and
+One set of statistics, computed once per loop, read by :func:`compare` (which effect of the
+simulated world differs from measured loops). The applicability check (is a loop fit for a
+verdict) reads two of them, the repeat shares, computed alone by the same code
+(:func:`_repeat_fractions`). Each statistic is made *specific*: it answers to one effect and
 stays put under the others (see the notes of each column in :func:`loop_statistics`).
 """
 
@@ -13,6 +14,7 @@ import pandas as pd
 from scipy.fft import irfft, next_fast_len, rfft
 
 from .._validation import OP, PV, SP, check_loops
+from ..cycles._signal import fast_median, fast_percentile
 
 __all__ = ["loop_statistics", "STATISTIC_COLUMNS"]
 
@@ -82,7 +84,11 @@ STATISTIC_COLUMNS = (
 
 def _span(x):
     """5-95 % range (robust to spikes and a few wild samples)."""
-    lo, hi = np.percentile(x, [5, 95])
+    lo, hi = fast_percentile(x, [5, 95])
+    if hi - lo == 0:
+        # fast_percentile gives np.percentile's numbers but a zero may carry the other sign,
+        # which only a zero span shows: numpy's own then
+        lo, hi = np.percentile(x, [5, 95])
     return float(hi - lo)
 
 
@@ -103,7 +109,8 @@ def _noise_sd(x, same):
     d2 = np.diff(x, 2)[ok1[1:] & ok1[:-1]]
     if len(d2) < 5:
         return 0.0
-    return float(_MAD_TO_SD * np.median(np.abs(d2 - np.median(d2))))
+    # fast_median: np.median to the bit here (a zero's sign cannot reach the |deviations|)
+    return float(_MAD_TO_SD * fast_median(np.abs(d2 - fast_median(d2))))
 
 
 def _acf(x, max_lag, demean=True):
@@ -157,14 +164,19 @@ def _fill(x):
     return out
 
 
-def _repeats_and_reuse(x):
-    d = np.diff(x)
-    same = d == 0
+def _repeats(x):
+    """Which samples equal the one before, and their share (NaN without a difference)."""
+    same = np.diff(x) == 0
+    return same, float(same.mean()) if len(same) else np.nan
+
+
+def _level_reuse(x, same):
+    """``1 - distinct values / (changes + 1)``; NaN without a change."""
     n_changes = int((~same).sum())
     distinct = len(np.unique(x))
     # Quantised signals revisit the same levels: distinct values fall far below the changes.
     reuse = 1.0 - distinct / (n_changes + 1.0) if n_changes > 0 else np.nan
-    return same, float(same.mean()) if len(same) else np.nan, max(reuse, 0.0)
+    return max(reuse, 0.0)
 
 
 def _band(x, same, span):
@@ -203,6 +215,65 @@ def _despike(x, span):
     clean = x.copy()
     clean[1:-1][hit] = med[hit]
     return clean, dev[hit] / span, None
+
+
+def _clean_channel(x):
+    """Span, spikes replaced, then repeats, of one channel without NaN.
+
+    Returns ``(span, clean, spike_sizes, noise, same, repeat_fraction)``; ``noise`` is None
+    when spikes were replaced (see :func:`_despike`).
+    """
+    span = _span(x)
+    clean, spikes, noise = _despike(x, span)
+    same, rep = _repeats(clean)
+    return span, clean, spikes, noise, same, rep
+
+
+def _first_steps(x):
+    """The steps every statistic of one loop starts from (``x``: n_samples x 3, padding cut).
+
+    NaN gaps in PV and OP are bridged linearly; then PV, and OP when it holds numbers, get
+    their spikes replaced first (so that one glitch does not break a frozen run or pass for
+    a grid level) and their repeats found, by :func:`_clean_channel`.
+
+    Returns
+    -------
+    has_op : bool
+        OP holds numbers.
+    pv, op : tuple or None
+        :func:`_clean_channel` of each; PV None for a loop of fewer than 8 samples or a PV
+        without numbers (no statistic then), OP None also without OP.
+    """
+    has_op = bool(np.isfinite(x[:, OP]).any())
+    pv = _fill(x[:, PV])
+    if len(x) < 8 or np.isnan(pv).any():
+        return has_op, None, None
+    pv = _clean_channel(pv)
+    op = _fill(x[:, OP]) if has_op else x[:, OP]
+    if not has_op or np.isnan(op).any():
+        return has_op, pv, None
+    return has_op, pv, _clean_channel(op)
+
+
+def _repeat_fractions(x):
+    """``pv_repeat_fraction`` and ``op_repeat_fraction`` of :func:`loop_statistics`, alone.
+
+    For the applicability check, which reads only these two: the same steps (gaps bridged,
+    spikes replaced, then repeats counted), without the other statistics.
+
+    Parameters
+    ----------
+    x : ndarray of shape (n_samples, 3)
+        One loop (PV, OP, SP), NaN padding cut.
+
+    Returns
+    -------
+    pv_rep, op_rep : float
+        Share of samples equal to the one before, NaN where :func:`loop_statistics` gives
+        NaN (fewer than 8 samples, PV or OP without numbers).
+    """
+    _, pv, op = _first_steps(x)
+    return (np.nan if pv is None else pv[-1]), (np.nan if op is None else op[-1])
 
 
 def _runs(same):
@@ -345,24 +416,20 @@ def _one_loop(x, ts):
     if n == 0:
         row.update(n_samples=0, ts=ts, has_op=False, has_sp=False)
         return row
-    pv, op, sp = x[:, PV], x[:, OP], x[:, SP]
-    has_op = bool(np.isfinite(op).any())
+    sp = x[:, SP]
+    has_op, pv_first, op_first = _first_steps(x)
     has_sp = bool(np.isfinite(sp).any())
     row.update(n_samples=n, ts=ts, has_op=has_op, has_sp=has_sp)
-    chans = pv if not has_op else np.concatenate([pv, op])
+    chans = x[:, PV] if not has_op else np.concatenate([x[:, PV], x[:, OP]])
     row["nan_fraction"] = float(np.isnan(chans).mean())
-    pv = _fill(pv)
-    op = _fill(op) if has_op else op
-    sp = _fill(sp) if has_sp else sp
-    if n < 8 or np.isnan(pv).any():
+    if pv_first is None:
         return row
-    # spikes first, so that one glitch does not break a frozen run or pass for a grid level
-    pv_span = _span(pv)
-    pv, spikes, pv_noise = _despike(pv, pv_span)
+    sp = _fill(sp) if has_sp else sp
+    pv_span, pv, spikes, pv_noise, same_pv, pv_rep = pv_first
+    pv_reuse = _level_reuse(pv, same_pv)
     spikes = [spikes]
     err = pv - sp if has_sp else pv
     err_span = _span(err)
-    same_pv, pv_rep, pv_reuse = _repeats_and_reuse(pv)
     if pv_noise is None:
         pv_noise = _noise_sd(pv, same_pv)
     row.update(pv_span=pv_span, error_span=err_span, pv_noise=pv_noise)
@@ -382,11 +449,10 @@ def _one_loop(x, ts):
     peak, period, reg, decor = _oscillation(det)
     row.update(acf_peak=peak, period=period, regularity=reg, decorrelation_lag=decor)
 
-    if has_op and not np.isnan(op).any():
-        op_span = _span(op)
-        op, op_spikes, op_noise = _despike(op, op_span)
+    if op_first is not None:
+        op_span, op, op_spikes, op_noise, same_op, op_rep = op_first
+        op_reuse = _level_reuse(op, same_op)
         spikes.append(op_spikes)
-        same_op, op_rep, op_reuse = _repeats_and_reuse(op)
         if op_noise is None:
             op_noise = _noise_sd(op, same_op)
         row.update(op_span=op_span, op_noise=op_noise, op_repeat_fraction=op_rep)
@@ -441,8 +507,8 @@ def _one_loop(x, ts):
 def loop_statistics(X, ts=None):
     """Per-loop statistics of noise, recording artefacts, setpoint regime and PV-OP relation.
 
-    One row per loop, computed once and shared by :func:`sktiction.realism.compare` and the
-    applicability check. Each column is made specific to one effect of
+    One row per loop, read by :func:`sktiction.realism.compare`; the applicability check
+    computes its two repeat shares by the same steps. Each column is made specific to one effect of
     :data:`sktiction.realism.EFFECTS` (notes below say what else could move it).
 
     Parameters
