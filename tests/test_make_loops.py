@@ -116,8 +116,9 @@ def test_classic_world_reproduces_version_0_1():
                             return_meta=True)  # fmt: skip
     np.testing.assert_array_equal(y, ref["y"])
     np.testing.assert_array_equal(meta["S"].to_numpy(), ref["S"])
-    np.testing.assert_array_equal(meta["Kc"].to_numpy(), ref["Kc"])
-    # bit for bit today; a tolerance leaves room for a faster kernel's rounding
+    # tuning formulas evaluated by another numpy may round the last bit differently
+    np.testing.assert_allclose(meta["Kc"].to_numpy(), ref["Kc"], rtol=1e-12)
+    # bit for bit when written; a tolerance leaves room for a faster kernel's rounding
     np.testing.assert_allclose(X, ref["X"], rtol=1e-9, atol=1e-9)
 
 
