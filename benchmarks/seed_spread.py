@@ -1,7 +1,8 @@
 """How far one simulated training draw moves the default model's figures.
 
 The default model is ``make_learned_classifier(random_state=s)`` trained on
-``make_loops(1500, n_samples=2000, random_state=s)`` with ``s = 0``. The booster's seed
+``make_loops(1500, n_samples=2000, random_state=s)`` with ``s = 0``, without the sticky
+loops whose slips stay inside the noise (``learned._training_set``). The booster's seed
 changes nothing with the defaults (see ``LearnedStictionClassifier``), so ``s`` only picks
 the simulated loops. This script trains the same recipe on several draws and judges each
 on the same loops: the second simulator (``independent_world.py``, 400 loops), the
@@ -13,8 +14,10 @@ Features are a pure function of each loop, so each evaluation set's features are
 computed once and every model reads them (``_diagnose_features``, the method behind
 ``diagnose``).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws]`` (default 10;
-10-30 s per draw on 2 idle cores).
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws] [first_draw]
+[--compare]`` (default 10 draws from 0; 10-30 s per draw on 2 idle cores). ``--compare``
+also trains each draw on every loop, the sticky loops whose slips stay inside the noise
+included (the recipe before they were left out), and prints the paired change.
 """
 
 import sys
@@ -31,7 +34,7 @@ from independent_world import make_independent_loops  # noqa: E402
 
 from sktiction._validation import check_loops  # noqa: E402
 from sktiction.classifiers import make_learned_classifier  # noqa: E402
-from sktiction.classifiers.learned import normalise_loops  # noqa: E402
+from sktiction.classifiers.learned import _training_set, normalise_loops  # noqa: E402
 from sktiction.datasets import make_loops  # noqa: E402
 
 
@@ -70,22 +73,50 @@ def _scores(clf, sets):
     return row
 
 
-def main(n_draws=10):
-    rows, sets = [], None
-    for seed in range(n_draws):
+def _paired(rows):
+    """Mean change (and its standard error) from training on every loop to the recipe."""
+    table = pd.DataFrame(rows).set_index(["draw", "training"])
+    diff = table.xs("recipe", level="training") - table.xs("every loop", level="training")
+    out = pd.DataFrame({
+        "every loop": table.xs("every loop", level="training").mean(),
+        "recipe": table.xs("recipe", level="training").mean(),
+        "change": diff.mean(),
+        "std. error": diff.std() / np.sqrt(len(diff)),
+        "draws up": (diff > 0).sum(),
+    })  # fmt: skip
+    print(f"\nleaving out sticky loops whose slips stay inside the noise, {len(diff)} draws:")
+    print(out.round(3).to_string())
+
+
+def main(n_draws=10, first=0, compare=False):
+    rows, paired, sets = [], [], None
+    for seed in range(first, first + n_draws):
         t0 = time.perf_counter()
-        X, y = make_loops(1500, n_samples=2000, random_state=seed)
+        X, y = _training_set(seed, 1500, 2000, "default")
         clf = make_learned_classifier(random_state=seed, n_jobs=2).fit(X, y)
         if sets is None:
             sets = _evaluation_sets(clf)
         rows.append({"draw": seed, **_scores(clf, sets)})
+        if compare:  # the same draw with every loop, as the recipe was before
+            Xa, ya = make_loops(1500, n_samples=2000, random_state=seed)
+            every = make_learned_classifier(random_state=seed, n_jobs=2).fit(Xa, ya)
+            paired.append({"draw": seed, "training": "every loop", **_scores(every, sets)})
+            paired.append({**rows[-1], "training": "recipe"})
         print(f"draw {seed}: trained and judged in {time.perf_counter() - t0:.0f} s", flush=True)
     table = pd.DataFrame(rows).set_index("draw")
     print(table.round(3).to_string())
     summary = table.agg(["mean", "min", "max"]).T
-    summary["rank of draw 0 (1 = best)"] = table.rank(ascending=False, method="min").loc[0]
+    if 0 in table.index:
+        summary["rank of draw 0 (1 = best)"] = table.rank(ascending=False, method="min").loc[0]
     print(summary.round(3).to_string())
+    if paired:
+        _paired(paired)
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 10)
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    main(
+        int(args[0]) if args else 10,
+        int(args[1]) if len(args) > 1 else 0,
+        compare="--compare" in sys.argv,
+    )

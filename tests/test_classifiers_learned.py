@@ -671,3 +671,17 @@ def test_build_fits_the_documented_recipe_on_its_training_set(monkeypatch):
     X, y = learned_module._training_set(2, 6, 300, "classic")
     np.testing.assert_array_equal(model.X, X)
     np.testing.assert_array_equal(model.y, y)
+
+
+def test_the_default_model_is_not_trained_on_sticky_loops_whose_slips_hide_in_the_noise():
+    X, y, meta = make_loops(80, n_samples=600, random_state=1, return_meta=True)
+    hidden = ((meta["y"] == 1) & ~meta["stiction_visible"]).to_numpy()
+    assert hidden.sum() >= 3  # the seed has such loops, or the test proves nothing
+    Xt, yt = learned_module._training_set(1, 80, 600, "default")
+    np.testing.assert_array_equal(Xt, X[~hidden])  # every other loop, in order
+    np.testing.assert_array_equal(yt, y[~hidden])
+    # the classic world has no slip measure: every loop is kept
+    Xc, yc = make_loops(20, n_samples=400, world="classic", slip_fraction=0.25, random_state=2)
+    Xct, yct = learned_module._training_set(2, 20, 400, "classic")
+    np.testing.assert_array_equal(Xct, Xc)
+    np.testing.assert_array_equal(yct, yc)
