@@ -15,9 +15,13 @@ computed once and every model reads them (``_diagnose_features``, the method beh
 ``diagnose``).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws] [first_draw]
-[--compare]`` (default 10 draws from 0; 10-30 s per draw on 2 idle cores). ``--compare``
-also trains each draw on every loop, the sticky loops whose slips stay inside the noise
-included (the recipe before they were left out), and prints the paired change.
+[--compare] [--control]`` (default 10 draws from 0; 10-30 s per draw on 2 idle cores).
+``--compare`` also trains each draw on every loop, the sticky loops whose slips stay
+inside the noise included (the recipe before they were left out), and prints the paired
+change; it doubles the time. ``--control`` adds two controls of that change: as many
+sticky loops whose slips show, left out at random, and the every-loop model with the
+decision threshold that the recipe's class balance implies (the prior shift alone); it
+triples the time.
 """
 
 import sys
@@ -34,7 +38,11 @@ from independent_world import make_independent_loops  # noqa: E402
 
 from sktiction._validation import check_loops  # noqa: E402
 from sktiction.classifiers import make_learned_classifier  # noqa: E402
-from sktiction.classifiers.learned import _training_set, normalise_loops  # noqa: E402
+from sktiction.classifiers.learned import (  # noqa: E402
+    _shows_its_label,
+    _training_set,
+    normalise_loops,
+)
 from sktiction.datasets import make_loops  # noqa: E402
 
 
@@ -60,10 +68,15 @@ def _evaluation_sets(clf):
     return out
 
 
-def _scores(clf, sets):
+def _scores(clf, sets, threshold=None):
+    """Balanced accuracy per judge; ``threshold``: call sticky from that probability on
+    instead of ``predict``'s 0.5 (no probability, outside the domain: not sticky)."""
     row = {}
     for name, (loops, feats, y, groups) in sets.items():
-        pred = clf._diagnose_features(loops, feats)["prediction"].to_numpy(dtype=int)
+        report = clf._diagnose_features(loops, feats)
+        pred = report["prediction"].to_numpy(dtype=int)
+        if threshold is not None:
+            pred = (report["probability"].fillna(0.0).to_numpy() >= threshold).astype(int)
         if groups is None:
             row[name] = balanced_accuracy_score(y, pred)
             continue
@@ -74,21 +87,38 @@ def _scores(clf, sets):
 
 
 def _paired(rows):
-    """Mean change (and its standard error) from training on every loop to the recipe."""
+    """Mean change (and its standard error) from training on every loop to each other way."""
     table = pd.DataFrame(rows).set_index(["draw", "training"])
-    diff = table.xs("recipe", level="training") - table.xs("every loop", level="training")
-    out = pd.DataFrame({
-        "every loop": table.xs("every loop", level="training").mean(),
-        "recipe": table.xs("recipe", level="training").mean(),
-        "change": diff.mean(),
-        "std. error": diff.std() / np.sqrt(len(diff)),
-        "draws up": (diff > 0).sum(),
-    })  # fmt: skip
-    print(f"\nleaving out sticky loops whose slips stay inside the noise, {len(diff)} draws:")
-    print(out.round(3).to_string())
+    every = table.xs("every loop", level="training")
+    for training in table.index.get_level_values("training").unique().drop("every loop"):
+        diff = table.xs(training, level="training") - every
+        out = pd.DataFrame({
+            "every loop": every.mean(),
+            training: table.xs(training, level="training").mean(),
+            "change": diff.mean(),
+            "std. error": diff.std() / np.sqrt(len(diff)),
+            "draws up": (diff > 0).sum(),
+            "draws down": (diff < 0).sum(),
+        })  # fmt: skip
+        print(f"\n{training} against every loop, {len(diff)} draws:")
+        print(out.round(3).to_string())
 
 
-def main(n_draws=10, first=0, compare=False):
+def _controls(seed, sets, X, y, left_out):
+    """What the recipe's gain would be without anything specific to the loops it leaves
+    out: as many sticky loops whose slips show, left out at random, and the every-loop
+    model called sticky from the probability that the recipe's class balance implies
+    (``1 - sticky share``: the prior shift alone)."""
+    shown = np.flatnonzero((y == 1) & ~left_out)
+    rng = np.random.default_rng(1000 + seed)
+    drop = np.zeros(len(y), dtype=bool)
+    drop[rng.choice(shown, int(left_out.sum()), replace=False)] = True
+    clf = make_learned_classifier(random_state=seed, n_jobs=2).fit(X[~drop], y[~drop])
+    rows = [{"draw": seed, "training": "random sticky loops left out", **_scores(clf, sets)}]
+    return rows, 1.0 - y[~left_out].mean()
+
+
+def main(n_draws=10, first=0, compare=False, control=False):
     rows, paired, sets = [], [], None
     for seed in range(first, first + n_draws):
         t0 = time.perf_counter()
@@ -97,11 +127,17 @@ def main(n_draws=10, first=0, compare=False):
         if sets is None:
             sets = _evaluation_sets(clf)
         rows.append({"draw": seed, **_scores(clf, sets)})
-        if compare:  # the same draw with every loop, as the recipe was before
-            Xa, ya = make_loops(1500, n_samples=2000, random_state=seed)
+        if compare or control:  # the same draw with every loop, as the recipe was before
+            Xa, ya, meta = make_loops(1500, n_samples=2000, random_state=seed, return_meta=True)
             every = make_learned_classifier(random_state=seed, n_jobs=2).fit(Xa, ya)
             paired.append({"draw": seed, "training": "every loop", **_scores(every, sets)})
             paired.append({**rows[-1], "training": "recipe"})
+        if control:
+            left_out = ~_shows_its_label(meta)
+            extra, threshold = _controls(seed, sets, Xa, ya, left_out)
+            paired += extra
+            paired.append({"draw": seed, "training": "every loop, prior-shifted threshold",
+                           **_scores(every, sets, threshold)})  # fmt: skip
         print(f"draw {seed}: trained and judged in {time.perf_counter() - t0:.0f} s", flush=True)
     table = pd.DataFrame(rows).set_index("draw")
     print(table.round(3).to_string())
@@ -119,4 +155,5 @@ if __name__ == "__main__":
         int(args[0]) if args else 10,
         int(args[1]) if len(args) > 1 else 0,
         compare="--compare" in sys.argv,
+        control="--control" in sys.argv,
     )

@@ -1,7 +1,8 @@
 """Sim-to-real: measure what the simulated world gets wrong on measured loops, name it, fit it.
 
 - :func:`loop_statistics`: one row of statistics per loop (noise, recording artefacts,
-  setpoint regime, PV-OP relation), shared by :func:`compare` and the applicability check.
+  setpoint regime, PV-OP relation), read by :func:`compare`; the applicability check
+  computes two of them, the repeat shares, by the same code.
 - :data:`EFFECTS`: the catalog, each effect with the statistic that detects it, the simulator
   effect that produces it and how it is fitted.
 - :func:`compare`: effect-by-effect table, most evident first, and the domain AUC.
