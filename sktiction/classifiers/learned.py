@@ -762,7 +762,7 @@ def make_learned_classifier(random_state=None, **params):
     The default model's recipe (:func:`pretrained_classifier`)::
 
         X, y, meta = make_loops(1500, n_samples=2000, random_state=0, return_meta=True)
-        keep = (meta["y"] == 0) | meta["stiction_visible"]  # slips above the noise
+        keep = ((meta["y"] == 0) | meta["stiction_visible"]).to_numpy()  # slips show
         clf = make_learned_classifier(random_state=0).fit(X[keep], y[keep])
 
     Parameters
@@ -889,13 +889,13 @@ def pretrained_classifier(
 
     Trains :func:`make_learned_classifier` on ``make_loops(n_loops, n_samples)`` of
     the chosen world (in the default world without the sticky loops whose slips stay
-    inside the noise: their records show nothing of their label) and stores it in the user cache
-    (``$SKTICTION_CACHE``, else ``~/.cache/sktiction``; see
-    :mod:`sktiction.classifiers._persistence`), keyed by
-    the package version, these arguments, a hash of the training code and the numpy /
-    scikit-learn versions. A new process loads it in well under 2 s; a missing, stale
-    or corrupt entry is rebuilt (under a minute on 2 cores with the defaults:
-    ``python -m sktiction.classifiers.learned`` times it). Within a process the result
+    inside the noise: their records show nothing of their label) and stores it in the
+    user cache (``$SKTICTION_CACHE``, else ``~/.cache/sktiction``; see
+    :mod:`sktiction.classifiers._persistence`), keyed by the package version, these
+    arguments, a hash of the training code and the numpy / scikit-learn versions. A new
+    process loads it in well under 2 s; a missing, stale or corrupt entry is rebuilt
+    (under a minute on 2 cores with the defaults: ``python -m
+    sktiction.classifiers.learned`` times it). Within a process the result
     is also kept in memory; a copy is returned so callers may change it.
 
     Parameters
