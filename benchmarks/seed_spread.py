@@ -114,8 +114,8 @@ def _controls(seed, sets, X, y, left_out):
     drop = np.zeros(len(y), dtype=bool)
     drop[rng.choice(shown, int(left_out.sum()), replace=False)] = True
     clf = make_learned_classifier(random_state=seed, n_jobs=2).fit(X[~drop], y[~drop])
-    rows = [{"draw": seed, "training": "random sticky loops left out", **_scores(clf, sets)}]
-    return rows, 1.0 - y[~left_out].mean()
+    row = {"draw": seed, "training": "random sticky loops left out", **_scores(clf, sets)}
+    return row, 1.0 - y[~left_out].mean()
 
 
 def main(n_draws=10, first=0, compare=False, control=False):
@@ -134,8 +134,8 @@ def main(n_draws=10, first=0, compare=False, control=False):
             paired.append({**rows[-1], "training": "recipe"})
         if control:
             left_out = ~_shows_its_label(meta)
-            extra, threshold = _controls(seed, sets, Xa, ya, left_out)
-            paired += extra
+            row, threshold = _controls(seed, sets, Xa, ya, left_out)
+            paired.append(row)
             paired.append({"draw": seed, "training": "every loop, prior-shifted threshold",
                            **_scores(every, sets, threshold)})  # fmt: skip
         print(f"draw {seed}: trained and judged in {time.perf_counter() - t0:.0f} s", flush=True)

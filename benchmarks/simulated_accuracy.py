@@ -25,6 +25,7 @@ import pandas as pd
 from sklearn.metrics import balanced_accuracy_score, brier_score_loss
 
 from sktiction import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
+from sktiction.classifiers.learned import _shows_its_label
 from sktiction.datasets import make_loops
 
 N_TEST = int(sys.argv[1]) if len(sys.argv) > 1 else 400
@@ -46,7 +47,7 @@ def main():
                                 return_meta=True, **kw)
         tests[w] = X, y
         if "stiction_visible" in meta:
-            identifiable[w] = ((meta["y"] == 0) | meta["stiction_visible"]).to_numpy()
+            identifiable[w] = _shows_its_label(meta)
             sticky = meta[meta["y"] == 1]
             print(f"{w} world: {sticky['stiction_visible'].mean():.1%} of sticky test loops "
                   "have slips visible above the noise (median slip / noise sd "
