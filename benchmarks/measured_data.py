@@ -75,8 +75,10 @@ def calibrated_verdicts(X, meta, groups, n_loops, folds):
         pred[test], judged[test] = p, j
         reasons[test] = report["reason"].to_numpy()
         proba[test] = report["probability"].to_numpy()
-        print(f"  fold {k + 1}/{folds}: calibrated on {len(set(groups[train]))} tags, "
-              f"trained in {time.perf_counter() - t0:.0f} s, judged {len(set(groups[test]))} tags")
+        print(
+            f"  fold {k + 1}/{folds}: calibrated on {len(set(groups[train]))} tags, "
+            f"trained in {time.perf_counter() - t0:.0f} s, judged {len(set(groups[test]))} tags"
+        )
     return pred, judged, pd.DataFrame({"reason": reasons, "probability": proba})
 
 
@@ -85,10 +87,18 @@ def table(report, names, by):
     for key, part in report.groupby(by):
         for name in names:
             bal, rec, spec = rates(part["y"], part[name])
-            rows.append({**dict(zip(by, key if isinstance(key, tuple) else (key,))),
-                         "classifier": name, "n": len(part), "n_sticky": int(part["y"].sum()),
-                         "judged": part[f"{name} judged"].mean(), "balanced_acc": bal,
-                         "recall": rec, "specificity": spec})
+            rows.append(
+                {
+                    **dict(zip(by, key if isinstance(key, tuple) else (key,))),
+                    "classifier": name,
+                    "n": len(part),
+                    "n_sticky": int(part["y"].sum()),
+                    "judged": part[f"{name} judged"].mean(),
+                    "balanced_acc": bal,
+                    "recall": rec,
+                    "specificity": spec,
+                }
+            )
     return pd.DataFrame(rows)
 
 
@@ -121,8 +131,10 @@ def main(argv=None):
     report = meta[["dataset", "file", "tag", "loop_type"]].copy()
     report["y"] = y
     names = []
-    for name, clf in (("area ratio", AreaRatioClassifier()),
-                      ("shape library", ShapeLibraryClassifier())):
+    for name, clf in (
+        ("area ratio", AreaRatioClassifier()),
+        ("shape library", ShapeLibraryClassifier()),
+    ):
         d = clf.fit(X).diagnose(X)
         report[name], report[f"{name} judged"] = d["prediction"].to_numpy(), d["reason"].eq("ok")
         names.append(name)
@@ -163,11 +175,12 @@ def main(argv=None):
         print(f"\n{name}: reasons {counts}")
     if args.per_loop:
         cols = ["dataset", "tag", "loop_type", "y"] + [
-            c for n in learned for c in (n, f"{n} p", f"{n} reason")]
+            c for n in learned for c in (n, f"{n} p", f"{n} reason")
+        ]
         print("\n== every loop ==")
         print(report[cols].to_string(**fmt))
     if args.pv_op_look:
-        pv_op_look(X)
+        pv_op_look(X, y, groups)
     return 0
 
 
@@ -176,12 +189,14 @@ def main(argv=None):
 _SLOW = ("stuck_share_slow", "moving_share_slow", "hysteresis_fill_slow")
 
 
-def pv_op_look(X, n_sim=300):
-    """How often PV stays put while OP moves, measured against the default world; no labels.
+def pv_op_look(X, y, groups, n_sim=300):
+    """How often PV stays put while OP moves, measured against the default world.
 
     Medians of the learned model's slow-scale hysteresis columns and the share of loops with
     the "stuck look" (stuck share > 0.35, OP moving in > 70 % of windows, fill > 0.4), on the
-    measured loops and on ``n_sim`` default-world loops of 751 samples (seed 0), each class.
+    measured loops (no labels) and on ``n_sim`` default-world loops of 751 samples (seed 0),
+    each class. Then, with the measured labels, what the look means there: windows and valves
+    with and without it, and how many of them are sticky (reported, not used to choose).
     """
     clf = pretrained_classifier(random_state=0)
     Xs, ys = make_loops(n_sim, n_samples=751, random_state=0)
@@ -195,8 +210,17 @@ def pv_op_look(X, n_sim=300):
         look = (F["stuck_share_slow"] > 0.35) & (F["moving_share_slow"] > 0.7)
         look &= F["hysteresis_fill_slow"] > 0.4
         rows[name] = {**F.median().to_dict(), "stuck look": float(look.mean()), "n": len(F)}
+        if keep is None:
+            measured_look = look.to_numpy()
     print("\n== PV steady while OP moves, at OP's own time scale (medians) ==")
     print(pd.DataFrame(rows).T.to_string(float_format="{:.2f}".format))
+    windows = pd.DataFrame({"look": measured_look, "sticky": y, "valve": groups})
+    valves = windows.groupby("valve").max()  # a valve shows the look in any of its windows
+    print("\n== the look on the measured loops, with their labels ==")
+    for name, t in (("windows", windows), ("valves", valves)):
+        counts = t.groupby("look")["sticky"].agg(["size", "sum"])
+        for look, (n, sticky) in counts.iterrows():
+            print(f"{name} {'with' if look else 'without'} the look: {n}, {sticky} sticky")
 
 
 if __name__ == "__main__":

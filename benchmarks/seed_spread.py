@@ -15,13 +15,17 @@ computed once and every model reads them (``_diagnose_features``, the method beh
 ``diagnose``).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws] [first_draw]
-[--compare] [--control]`` (default 10 draws from 0; 10-30 s per draw on 2 idle cores).
+[--compare] [--control] [--second-simulator]`` (default 10 draws from 0; 10-30 s per draw
+on 2 idle cores).
 ``--compare`` also trains each draw on every loop, the sticky loops whose slips stay
 inside the noise included (the recipe before they were left out), and prints the paired
 change; it doubles the time. ``--control`` adds two controls of that change: as many
 sticky loops whose slips show, left out at random, and the every-loop model with the
 decision threshold that the recipe's class balance implies (the prior shift alone); it
-triples the time.
+triples the time. ``--second-simulator`` also trains each draw on the recipe's loops plus
+600 loops of ``independent_world.py`` (seed ``500 + draw``, never the judging seed 2026) and
+prints the change from the recipe alone: does a second simulator bring the model closer to
+the plants?
 """
 
 import sys
@@ -86,21 +90,21 @@ def _scores(clf, sets, threshold=None):
     return row
 
 
-def _paired(rows):
-    """Mean change (and its standard error) from training on every loop to each other way."""
+def _paired(rows, base="every loop"):
+    """Mean change (and its standard error) from training the ``base`` way to each other way."""
     table = pd.DataFrame(rows).set_index(["draw", "training"])
-    every = table.xs("every loop", level="training")
-    for training in table.index.get_level_values("training").unique().drop("every loop"):
+    every = table.xs(base, level="training")
+    for training in table.index.get_level_values("training").unique().drop(base):
         diff = table.xs(training, level="training") - every
         out = pd.DataFrame({
-            "every loop": every.mean(),
+            base: every.mean(),
             training: table.xs(training, level="training").mean(),
             "change": diff.mean(),
             "std. error": diff.std() / np.sqrt(len(diff)),
             "draws up": (diff > 0).sum(),
             "draws down": (diff < 0).sum(),
         })  # fmt: skip
-        print(f"\n{training} against every loop, {len(diff)} draws:")
+        print(f"\n{training} against {base}, {len(diff)} draws:")
         print(out.round(3).to_string())
 
 
@@ -118,8 +122,17 @@ def _controls(seed, sets, X, y, left_out):
     return row, 1.0 - y[~left_out].mean()
 
 
-def main(n_draws=10, first=0, compare=False, control=False):
-    rows, paired, sets = [], [], None
+def _with_second_simulator(seed, X, y, n_loops=600):
+    """The recipe's loops plus ``n_loops`` of the second simulator, NaN-padded alike."""
+    X2, y2, _ = make_independent_loops(n_loops, 6000, random_state=500 + seed)
+    n = max(X.shape[1], X2.shape[1])
+    pad = [np.pad(a, ((0, 0), (0, n - a.shape[1]), (0, 0)), constant_values=np.nan)
+           for a in (X, X2)]  # fmt: skip
+    return np.concatenate(pad), np.concatenate([y, y2])
+
+
+def main(n_draws=10, first=0, compare=False, control=False, second=False):
+    rows, paired, mixed, sets = [], [], [], None
     for seed in range(first, first + n_draws):
         t0 = time.perf_counter()
         X, y = _training_set(seed, 1500, 2000, "default")
@@ -138,6 +151,12 @@ def main(n_draws=10, first=0, compare=False, control=False):
             paired.append(row)
             paired.append({"draw": seed, "training": "every loop, prior-shifted threshold",
                            **_scores(every, sets, threshold)})  # fmt: skip
+        if second:
+            Xb, yb = _with_second_simulator(seed, X, y)
+            both = make_learned_classifier(random_state=seed, n_jobs=2).fit(Xb, yb)
+            mixed.append({**rows[-1], "training": "recipe"})
+            mixed.append({"draw": seed, "training": "recipe + second simulator",
+                          **_scores(both, sets)})  # fmt: skip
         print(f"draw {seed}: trained and judged in {time.perf_counter() - t0:.0f} s", flush=True)
     table = pd.DataFrame(rows).set_index("draw")
     print(table.round(3).to_string())
@@ -147,6 +166,8 @@ def main(n_draws=10, first=0, compare=False, control=False):
     print(summary.round(3).to_string())
     if paired:
         _paired(paired)
+    if mixed:
+        _paired(mixed, base="recipe")
 
 
 if __name__ == "__main__":
@@ -156,4 +177,5 @@ if __name__ == "__main__":
         int(args[1]) if len(args) > 1 else 0,
         compare="--compare" in sys.argv,
         control="--control" in sys.argv,
+        second="--second-simulator" in sys.argv,
     )
