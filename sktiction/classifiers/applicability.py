@@ -255,8 +255,10 @@ def _prepare(x):
         if not (np.isfinite(pv_spread) and np.isfinite(op_spread)):
             return REASON_NOT_FINITE, None
         centre = np.median(pv)
-        out = np.stack([(pv - centre) / pv_spread, _normalise(op, op_spread),
-                        (sp - centre) / pv_spread], axis=1)
+        out = np.stack(
+            [(pv - centre) / pv_spread, _normalise(op, op_spread), (sp - centre) / pv_spread],
+            axis=1,
+        )
     if not np.isfinite(out[:, :2]).all() or np.isinf(out[:, 2]).any():
         return REASON_NOT_FINITE, None
     return None, out
@@ -361,9 +363,7 @@ def assess_applicability(X, ts=None):
     n_loops, n_samples = loops.shape[:2]
     if ts is None and hasattr(X, "meta") and "ts" in getattr(X, "meta", {}):
         ts = X.meta["ts"].to_numpy(dtype=float)
-    ts = np.broadcast_to(
-        np.asarray(np.nan if ts is None else ts, dtype=float), (n_loops,)
-    )
+    ts = np.broadcast_to(np.asarray(np.nan if ts is None else ts, dtype=float), (n_loops,))
     present = ~np.isnan(loops[:, :, PV])
     lengths = np.where(present.any(axis=1), n_samples - np.argmax(present[:, ::-1], axis=1), 0)
     rows = [dict.fromkeys(APPLICABILITY_COLUMNS, np.nan) for _ in range(n_loops)]

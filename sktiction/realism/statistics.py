@@ -9,6 +9,8 @@ stays put under the others (see the notes of each column in :func:`loop_statisti
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import pandas as pd
 from scipy.fft import irfft, next_fast_len, rfft
@@ -217,16 +219,24 @@ def _despike(x, span):
     return clean, dev[hit] / span, None
 
 
-def _clean_channel(x):
-    """Span, spikes replaced, then repeats, of one channel without NaN.
+class _Channel(NamedTuple):
+    """One channel after :func:`_clean_channel`; ``noise`` is None when spikes were
+    replaced (see :func:`_despike`)."""
 
-    Returns ``(span, clean, spike_sizes, noise, same, repeat_fraction)``; ``noise`` is None
-    when spikes were replaced (see :func:`_despike`).
-    """
+    span: float
+    clean: np.ndarray
+    spike_sizes: np.ndarray
+    noise: float | None
+    same: np.ndarray
+    repeat_fraction: float
+
+
+def _clean_channel(x):
+    """Span, spikes replaced, then repeats, of one channel without NaN (a :class:`_Channel`)."""
     span = _span(x)
     clean, spikes, noise = _despike(x, span)
     same, rep = _repeats(clean)
-    return span, clean, spikes, noise, same, rep
+    return _Channel(span, clean, spikes, noise, same, rep)
 
 
 def _first_steps(x):
@@ -240,7 +250,7 @@ def _first_steps(x):
     -------
     has_op : bool
         OP holds numbers.
-    pv, op : tuple or None
+    pv, op : _Channel or None
         :func:`_clean_channel` of each; PV None for a loop of fewer than 8 samples or a PV
         without numbers (no statistic then), OP None also without OP.
     """
@@ -273,7 +283,7 @@ def _repeat_fractions(x):
         NaN (fewer than 8 samples, PV or OP without numbers).
     """
     _, pv, op = _first_steps(x)
-    return (np.nan if pv is None else pv[-1]), (np.nan if op is None else op[-1])
+    return tuple(np.nan if c is None else c.repeat_fraction for c in (pv, op))
 
 
 def _runs(same):
