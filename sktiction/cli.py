@@ -40,6 +40,7 @@ TABLE_COLUMNS = [
     "verdict",
     "stiction_probability",
     "stiction_size_mean",
+    "stiction_band_fit",
     "period",
     "area_ratio",
     "reason",
@@ -144,7 +145,8 @@ def _console_table(report):
         reason = np.where(failed, notes, np.where(notes != "", reason + "; " + notes, reason))
     table["reason"] = reason
     table = table.rename(columns={"stiction_probability": "p_stiction",
-                                  "stiction_size_mean": "size_%"})
+                                  "stiction_size_mean": "size_%",
+                                  "stiction_band_fit": "band_%"})
     return table
 
 

@@ -2,8 +2,10 @@
 
 import numpy as np
 import pytest
+from scipy.stats import spearmanr
 
 from sktiction.cycles import dominant_period
+from sktiction.datasets import make_loops
 from sktiction.features import PVOPHysteresis
 from sktiction.features.hysteresis import (
     FEATURES,
@@ -13,6 +15,7 @@ from sktiction.features.hysteresis import (
     hysteresis_fill,
     stuck_share,
     time_scale,
+    valve_band,
     valve_fit,
 )
 from sktiction.features.stiction_model import _play, fit_stiction_band
@@ -186,3 +189,19 @@ def test_transform_loop_gives_the_row_of_transform():
     est = PVOPHysteresis().fit(loops)
     row = est._transform_loop(loops, 0, 3000)
     assert np.array_equal(np.asarray(row, dtype=float), est.transform(loops)[0], equal_nan=True)
+
+
+def test_valve_band_sizes_the_classic_worlds_bands():
+    """valve_band against the true band S of make_loops' sticky valves: it reads low (a
+    play operator of band d follows a valve that jumps the whole band with d below S) but
+    ranks the bands, and a linear valve needs almost none."""
+    X, y, meta = make_loops(160, n_samples=2000, world="classic", random_state=22,
+                            return_meta=True)  # fmt: skip
+    band = np.array([valve_band(x[:, 0], x[:, 1]) for x in X])
+    S = meta["S"].to_numpy()
+    sticky = y == 1
+    ratio = band[sticky] / S[sticky]
+    assert 0.6 < np.median(ratio) < 1.0
+    assert np.quantile(ratio, 0.9) < 1.2
+    assert spearmanr(band[sticky], S[sticky])[0] > 0.5
+    assert np.quantile(band[~sticky], 0.9) < 0.1 * np.median(band[sticky])

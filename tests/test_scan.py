@@ -10,6 +10,7 @@ from sklearn.pipeline import FeatureUnion, Pipeline
 from sktiction import AreaRatio, LoopDescriptors, StictionModelFit, TemplateDistances
 from sktiction.classifiers import AreaRatioClassifier, ShapeLibraryClassifier
 from sktiction.datasets import make_loops
+from sktiction.features.hysteresis import valve_band
 from sktiction.reports import scan as scan_module
 from sktiction.reports import scan_loops
 
@@ -38,7 +39,7 @@ def no_gate(monkeypatch):
 
 def reference_scan(X, loop_types, learned):
     """The scan as it was before the shared pass: each classifier on its own (reference)."""
-    from sktiction._validation import check_loops, loop_status
+    from sktiction._validation import check_loops, loop_lengths, loop_status
 
     loops = check_loops(X)
     ar = AreaRatioClassifier().fit(loops).diagnose(loops)
@@ -55,6 +56,8 @@ def reference_scan(X, loop_types, learned):
     sticky = ok & (proba >= 0.5)
     size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
     size[~sticky] = np.nan
+    band = [valve_band(x[:n, 0], x[:n, 1]) if s else np.nan
+            for x, n, s in zip(loops, loop_lengths(loops), sticky)]  # fmt: skip
     return pd.DataFrame(
         {
             "status": status,
@@ -68,6 +71,7 @@ def reference_scan(X, loop_types, learned):
             "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
+            "stiction_band_fit": np.asarray(band, dtype=float),
             "reason": np.where(ok, shape["reason"].to_numpy(dtype=object), status),
         }
     )

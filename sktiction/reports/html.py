@@ -24,6 +24,7 @@ TABLE_COLUMNS = (
     ("verdict", "verdict", "text"),
     ("stiction_probability", "p(stiction)", "prob"),
     ("stiction_size_mean", "stiction size, % travel", "num1"),
+    ("stiction_band_fit", "fitted dead band, % travel", "num1"),
     ("period", "period", "num1"),
     ("area_ratio", "area ratio", "num2"),
     ("status", "status", "text"),
@@ -133,8 +134,8 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
 
     A sortable table of loops (click a header to sort, or open the file with
     ``#sort=N`` to sort by column ``N``: verdict, probability of
-    stiction, stiction size in % of valve travel, oscillation period, area ratio,
-    status and reason), then for each loop a figure: the trend of PV, SP and OP
+    stiction, stiction size in % of valve travel, the fitted dead band, oscillation
+    period, area ratio, status and reason), then for each loop a figure: the trend of PV, SP and OP
     with the detected cycles shaded and the matched OP/PV templates named on each
     cycle, PV against OP, and the area ratio R of each cycle. Figures are base64
     PNG and the sorting script is inline: the file needs no network.
