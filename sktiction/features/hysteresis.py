@@ -138,11 +138,8 @@ def valve_band(pv, op):
     >>> [round(valve_band(x[:, 0], x[:, 1]), 1) for x in X]
     [4.8, 0.0]
     """
-    pv = np.asarray(pv, dtype=float)
-    op = np.asarray(op, dtype=float)
-    slow = max(2, round(time_scale(op, op.size) / 4))
-    _, band, _ = _block_fit(pv, op, slow)
-    return float(band)
+    loop = np.stack([pv, op], axis=-1).astype(float)[None]  # channels PV, OP
+    return analysed_valve_band(LoopAnalysis(loop, 0, loop.shape[1]))
 
 
 def _move_scale(x):
@@ -252,7 +249,29 @@ class PVOPHysteresis(LoopTransformer):
         stuck, moving = stuck_share(pv, op, w, scales)
         row = [stuck, moving, hysteresis_fill(pv, op, w, period)]
         # the same at OP's own time scale, which every loop has, oscillating or not
-        slow = max(2, round(time_scale(op, n) / 4))
+        slow = _slow_window(analysis)
         stuck, moving = stuck_share(pv, op, slow, scales)
         row += [stuck, moving, hysteresis_fill(pv, op, slow, np.nan)]
-        return row + list(valve_fit(pv, op, slow))
+        gain, band, span = _analysed_block_fit(analysis)
+        return row + [gain, band / span if np.isfinite(band) else np.nan]
+
+
+def _slow_window(analysis):
+    """A quarter of OP's :func:`time_scale` (>= 2 samples), kept in the analysis."""
+    op = analysis.signal("op")
+    return analysis.memo("op_slow_window", lambda: max(2, round(time_scale(op, op.size) / 4)))
+
+
+def _analysed_block_fit(analysis):
+    """:func:`_block_fit` at :func:`_slow_window`, kept in the analysis: the learned
+    model's columns and a scan's :func:`analysed_valve_band` share one fit."""
+    slow = _slow_window(analysis)
+    pv, op = analysis.signal("pv"), analysis.signal("op")
+    return analysis.memo(("valve_fit", slow), lambda: _block_fit(pv, op, slow))
+
+
+def analysed_valve_band(analysis):
+    """:func:`valve_band` of an analysed loop (a
+    :class:`~sktiction.features._loops.LoopAnalysis`), reusing a fit already made for
+    :class:`PVOPHysteresis` on it."""
+    return float(_analysed_block_fit(analysis)[1])

@@ -19,7 +19,7 @@ from .._validation import STATUS_OK, check_loops, loop_status
 from ..classifiers import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
 from ..classifiers.shape_library import LOOP_TYPES
 from ..features._loops import LoopTransformer, analyse_loops
-from ..features.hysteresis import valve_band
+from ..features.hysteresis import analysed_valve_band
 
 REPORT_COLUMNS = [
     "status",
@@ -222,10 +222,11 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
 
 def _fitted_bands(analyses, sticky):
     """:func:`~sktiction.features.hysteresis.valve_band` of the loops called sticky (NaN
-    elsewhere): a size that needs no cycle, beside the shape library's peak-to-peak."""
+    elsewhere): a size that needs no cycle, beside the shape library's peak-to-peak. The
+    package's learned model has usually fitted it already on the same analyses."""
     band = np.full(len(analyses), np.nan)
     for i in np.flatnonzero(sticky):
-        band[i] = valve_band(analyses[i].signal("pv"), analyses[i].signal("op"))
+        band[i] = analysed_valve_band(analyses[i])
     return band
 
 
