@@ -108,11 +108,11 @@ def valve_band(pv, op):
     oscillating, where the shape library's peak-to-peak size has nothing to measure. 0
     when no band improves the linear fit, NaN when there is nothing to fit.
 
-    How close it comes to the true band S of ``make_loops``' sticky valves (600 of
-    each world; ``tests/test_hysteresis.py`` asserts the classic world's): in the
-    classic world the median ratio is about 0.8 and the rank correlation 0.8; in the
-    default world, where small bands hide in noise and recording, about 0.5-0.7 and
-    0.6, within a factor of 2 for about half of its loops. It reads low. Healthy
+    How close it comes to the true band S of ``make_loops``' sticky valves that a scan
+    calls sticky (``examples/stiction_size.py``; ``tests/test_hysteresis.py`` asserts
+    the classic world's): median ratio 0.77 in the classic world (rank correlation
+    0.85, within a factor of 2 for 92 %), 0.66 in the default world, where small bands
+    hide in noise and recording (0.68, 70 %). It reads low. Healthy
     loops of both worlds give a median of 0.00-0.02 % (a linear valve needs no band),
     but a record with no loop dynamics can fool it: PV equal to a triangular OP plus
     noise fits a band of about 4 in 10 % of travel, since then the play operator's

@@ -351,8 +351,8 @@ def scan_loops(
     band of a valve model fitted to PV and OP
     (:func:`~sktiction.features.hysteresis.valve_band`, OP units; NaN unless the
     verdict is stiction), so a valve that slips without oscillating is sized too. It
-    reads low (median 0.8 of the true band in ``make_loops``' classic world, 0.5-0.7
-    in its default world). Each loop's signals are analysed once and the analysis shared by the
+    reads low: median 0.77 of the true band in ``make_loops``' classic world, 0.66 in
+    its default world (``examples/stiction_size.py``). Each loop's signals are analysed once and the analysis shared by the
     three. Loops that cannot be analysed get ``status`` and ``reason`` and
     ``verdict = "no_verdict"``; so do loops the applicability check
     (:func:`~sktiction.classifiers.applicability.assess_applicability`) rejects,
