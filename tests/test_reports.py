@@ -140,3 +140,21 @@ def test_cli_scan_reports_good_and_bad_files(tmp_path, capsys, monkeypatch, smal
     assert broken["verdict"] == "no_verdict" and broken["input_status"] == "error"
     assert "no PV column" in broken["input_reason"]
     assert report.loc[report["file"] != "broken.csv", "status"].eq("ok").all()
+
+
+def test_html_figure_titles_carry_the_verdict_and_sizes():
+    from sktiction.reports.html import _figure_title
+
+    report = pd.DataFrame({
+        "tag": ["FIC101", "", "LIC7"],
+        "verdict": ["stiction", "no_verdict", "no_stiction"],
+        "stiction_probability": [0.934, np.nan, 0.1],
+        "stiction_size_mean": [2.5, np.nan, np.nan],
+        "stiction_band_fit": [1.234, np.nan, np.nan],
+    })  # fmt: skip
+    assert _figure_title(report, 0) == (
+        "FIC101, stiction (p = 0.93), peak-to-peak 2.50 %, fitted band 1.23 %"
+    )
+    assert _figure_title(report, 1) == "loop 1, no verdict"
+    assert _figure_title(report, 2) == "LIC7, no stiction (p = 0.10)"
+    assert _figure_title(pd.DataFrame({"file": ["a.csv"]}), 0) == "a.csv"

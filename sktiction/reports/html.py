@@ -115,6 +115,22 @@ def _label(report, i):
     return f"loop {i}"
 
 
+def _figure_title(report, i):
+    """The loop's name, then its verdict with the probability and sizes a scan gave."""
+    parts = [_label(report, i)]
+    row = report.iloc[i]
+    if isinstance(row.get("verdict"), str):
+        verdict = row["verdict"].replace("_", " ")
+        p = row.get("stiction_probability", np.nan)
+        parts.append(f"{verdict} (p = {p:.2f})" if np.isfinite(p) else verdict)
+    for col, name in (("stiction_size_mean", "peak-to-peak"),
+                      ("stiction_band_fit", "fitted band")):  # fmt: skip
+        value = row.get(col, np.nan)
+        if np.isfinite(value):
+            parts.append(f"{name} {value:.2f} %")
+    return ", ".join(parts)
+
+
 def _loop_getter(X, n):
     """``i -> loop i as (1, n_samples, 3)`` (or None) from an array or a callable."""
     if X is None:
@@ -214,7 +230,7 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
                     if len(cycles) and "period" in cycles:
                         periods[i] = float(np.median(cycles["period"])) * ts[i]
                     fig = plot_loop_summary(one, ts=ts[i], cycles=cycles,
-                                            title=_label(report, i))
+                                            title=_figure_title(report, i))
                     figures[i] = _figure_png(fig, dpi)
                 except Exception as exc:  # noqa: BLE001 - a figure must not stop the report
                     figures[i] = f"error: {type(exc).__name__}: {exc}"
