@@ -150,6 +150,29 @@ def _console_table(report):
     return table
 
 
+def _positive_int(text):
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a positive integer; got {text}")
+    return value
+
+
+def _top(table, n):
+    """The ``n`` rows most likely sticky (verdict stiction, by probability), then every
+    row that could not be read: what a site scan's console should show first."""
+    sticky = table[table["verdict"] == "stiction"]
+    if "p_stiction" in sticky:
+        sticky = sticky.sort_values("p_stiction", ascending=False, kind="stable")
+    return pd.concat([sticky.head(n), table[table["read"] != "ok"]])
+
+
+def _verdict_counts(report):
+    """One line: how many loops got each verdict."""
+    counts = report["verdict"].value_counts()
+    parts = [f"{counts.get(v, 0)} {v}" for v in ("stiction", "no_stiction", "no_verdict")]
+    return f"verdicts of {len(report)} loops: " + ", ".join(parts)
+
+
 def _print_table(table, file=None):
     with pd.option_context("display.width", 200, "display.max_columns", 20,
                            "display.max_colwidth", 70, "display.float_format",
@@ -253,7 +276,8 @@ def _scan(args):
                           title="sktiction scan")
         print(f"wrote the HTML report to {args.report}", file=sys.stderr)
     table = _console_table(report)
-    _print_table(table)
+    _print_table(table if args.top is None else _top(table, args.top))
+    print("\n" + _verdict_counts(report), file=sys.stderr)
     failed = int((table["read"] != "ok").sum())
     if failed:
         print(f"\n{failed} of {len(table)} files or loops could not be read (see 'read' and "
@@ -367,6 +391,9 @@ def build_parser():
     scan.add_argument("--scheduler", default=None,
                       help="address of a dask.distributed scheduler to scan on")
     scan.add_argument("-q", "--quiet", action="store_true", help="no progress output")
+    scan.add_argument("--top", type=_positive_int, default=None, metavar="N",
+                      help="show only the N loops most likely sticky (and every file that "
+                           "could not be read); the -o/--report files keep every row")
     scan.set_defaults(func=_scan)
     _add_compare(sub)
     return parser

@@ -180,3 +180,31 @@ def test_compare_is_wired_to_realism(no_training, tmp_path, capsys):
     pytest.importorskip("sktiction.realism._cli")
     assert cli.main(["compare", str(tmp_path / "nope")]) == 2
     assert "no such file or folder" in capsys.readouterr().err
+
+
+def test_top_keeps_the_most_likely_sticky_rows_and_every_unread_file():
+    table = pd.DataFrame({
+        "file": ["a", "b", "c", "d", "e"],
+        "read": ["ok", "ok", "ok", "error", "ok"],
+        "verdict": ["stiction", "no_stiction", "stiction", "no_verdict", "stiction"],
+        "p_stiction": [0.6, 0.2, 0.9, np.nan, 0.7],
+    })  # fmt: skip
+    assert cli._top(table, 2)["file"].tolist() == ["c", "e", "d"]
+    assert cli._top(table, 10)["file"].tolist() == ["c", "e", "a", "d"]
+    report = table.rename(columns={"p_stiction": "stiction_probability"})
+    assert cli._verdict_counts(report) == (
+        "verdicts of 5 loops: 3 stiction, 1 no_stiction, 1 no_verdict"
+    )
+
+
+def test_top_option_on_the_command_line(quick, folder, tmp_path, capsys):
+    out = tmp_path / "out.csv"
+    assert cli.main(["scan", str(folder), "-q", "--top", "1", "-o", str(out)]) == 1
+    captured = capsys.readouterr()
+    full = pd.read_csv(out)
+    assert len(full) == 3  # the file keeps every row
+    shown = [line for line in captured.out.splitlines()[1:] if line.strip()]
+    assert len(shown) == min(1, int((full["verdict"] == "stiction").sum())) + 1
+    assert "broken.csv" in captured.out
+    assert "verdicts of 3 loops" in captured.err
+    assert cli.main(["scan", str(folder), "--top", "0"]) == 2  # a usage error
