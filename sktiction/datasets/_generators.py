@@ -102,7 +102,7 @@ def _phase_crossovers(plants, kc, ti, ts, n_grid):
         scale = delay[idx] + lag + ts[idx]
         w = _frequency_grid(n_grid)[None, :n_points] / scale[:, None]
         rhs = np.broadcast_to(B[:, None, :, None], (len(idx), n_points, n, 1))
-        x = np.linalg.solve(1j * w[:, :, None, None] * np.eye(n) - A[:, None], rhs)
+        x = np.linalg.solve(_jw_minus(w, A), rhs)
         G = np.stack([
             (x[k, :, :, 0] @ models[i][2]) * np.sign(plants[i].gain) for k, i in enumerate(idx)
         ])  # fmt: skip
@@ -140,6 +140,20 @@ def _phase_crossovers(plants, kc, ti, ts, n_grid):
             if len(left) and first < n_grid:
                 search(left, n_grid)
     return w180, margin
+
+
+def _jw_minus(w, A):
+    """``1j * w[:, :, None, None] * np.eye(n) - A[:, None]`` written in one pass.
+
+    Every product there is exact (by 0 or 1), so its real part is ``0.0 - A`` (+0.0, never
+    -0.0, where ``A`` is zero) and its imaginary part ``w`` on the diagonal, +0.0 elsewhere.
+    """
+    n = A.shape[-1]
+    M = np.zeros((*w.shape, n, n), dtype=complex)
+    M.real[...] = np.subtract(0.0, A)[:, None]
+    diag = np.arange(n)
+    M.imag[:, :, diag, diag] = w[:, :, None]
+    return M
 
 
 def _settings(plant, rule, ts):
@@ -426,8 +440,16 @@ def _pick(rng, options, p=None):
     """One of ``options``; ``p`` are weights (renormalised)."""
     if p is None:
         return options[rng.integers(len(options))]
+    return options[int(np.searchsorted(_cumulative(tuple(p)), rng.random(), side="right"))]
+
+
+@functools.lru_cache(maxsize=256)
+def _cumulative(p):
+    """Cumulative renormalised weights ``p`` (a tuple: loops share a few weightings)."""
     p = np.asarray(p, dtype=float)
-    return options[int(np.searchsorted(np.cumsum(p / p.sum()), rng.random(), side="right"))]
+    c = np.cumsum(p / p.sum())
+    c.flags.writeable = False
+    return c
 
 
 def _recording_effect(name, rng):
@@ -796,32 +818,29 @@ _MIN_SLIPS = 3
 _MAX_REDRAWS = 6
 
 
-def _slips(valve, lengths):
-    """Number of times each valve starts to move within its record."""
-    moving = np.abs(np.diff(valve, axis=1)) > 1e-9
+def _slip_starts(valve, length):
+    """Valve moves over a record and the first sample of each run of movement (the slips:
+    ``starts.sum()`` is how many times the valve starts to move within the record)."""
+    step = np.abs(np.diff(valve[:length]))
+    moving = step > 1e-9
     starts = moving.copy()
-    starts[:, 1:] &= ~moving[:, :-1]
-    starts &= np.arange(starts.shape[1])[None, :] < (np.asarray(lengths)[:, None] - 1)
-    return starts.sum(axis=1)
+    starts[1:] &= ~moving[:-1]
+    return step, starts
 
 
 # a slip whose PV effect is below one noise standard deviation cannot be seen in the record
 _VISIBLE_SLIP_SNR = 1.0
 
 
-def _slip_snr(pv, valve, length, pv_per_valve, snr_db):
+def _slip_snr(pv, step, starts, length, pv_per_valve, snr_db):
     """Median PV change of a valve slip over the PV noise's standard deviation.
 
-    A slip is the first sample of each run of valve movement; its PV change is taken as
-    the plant's gain (for an integrating plant, the PV change while the delay and time
-    constant pass) times the jump. The noise's standard deviation follows from the SNR,
-    which is relative to the noise-free PV's spread: ``sd(PV) / sqrt(1 + 10^(snr/10))``.
+    A slip is the first sample of each run of valve movement (``step`` and ``starts`` from
+    :func:`_slip_starts`); its PV change is taken as the plant's gain (for an integrating
+    plant, the PV change while the delay and time constant pass) times the jump. The
+    noise's standard deviation follows from the SNR, which is relative to the noise-free
+    PV's spread: ``sd(PV) / sqrt(1 + 10^(snr/10))``.
     """
-    v = valve[:length]
-    step = np.abs(np.diff(v))
-    moving = step > 1e-9
-    starts = moving.copy()
-    starts[1:] &= ~moving[:-1]
     if not starts.any():
         return 0.0
     jump = float(np.median(step[starts]))
@@ -855,9 +874,10 @@ def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
 
         def look(lo, hi, valve, out=out, rec=rec, row=row, sticky=sticky, slips=slips):
             for k in np.flatnonzero(sticky[lo:hi]) + lo:
-                slips[k] = _slips(valve[k - lo : k - lo + 1], [rec[k][3]])[0]
+                step, starts = _slip_starts(valve[k - lo], rec[k][3])
+                slips[k] = starts.sum()
                 row[k]["slip_snr"] = _slip_snr(
-                    out[k, :, 0], valve[k - lo], rec[k][3], row[k]["pv_per_valve"],
+                    out[k, :, 0], step, starts, rec[k][3], row[k]["pv_per_valve"],
                     row[k]["snr_db"],
                 )  # fmt: skip
             for k in range(lo, hi):

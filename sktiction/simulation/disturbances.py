@@ -31,10 +31,9 @@ their arrays are drawn before the compiled loop runs.
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import lfilter
 
 from .._validation import check_positive
-from .effects import Effect, WhiteNoise
+from .effects import Effect, WhiteNoise, _lfilter, _padded
 
 __all__ = [
     "BandLimitedNoise",
@@ -61,16 +60,20 @@ def _lowpass_unit(n_samples, cutoff, order, rng):
     a few time constants is drawn and dropped so that the first sample is stationary.
     """
     a = np.exp(-2.0 * np.pi * cutoff)
-    den = _lag_power(a, order)
-    num = [(1.0 - a) ** order]
+    b, den = _padded([(1.0 - a) ** order], _lag_power(a, order))
     burn = int(min(5.0 * order / (1.0 - a), 20_000))
     e = rng.standard_normal(n_samples + burn)
-    out = lfilter(num, den, e)[burn:]
+    out = _lfilter(b, den, e, np.zeros(order))[burn:]
     # stationary variance: sum of the squared impulse response
-    impulse = np.zeros(burn + 65)
-    impulse[0] = 1.0
-    h = lfilter(num, den, impulse)
-    return out / np.sqrt(np.sum(h * h))
+    h = _lfilter(b, den, _impulse(burn + 65), np.zeros(order))
+    out /= np.sqrt(np.sum(h * h))
+    return out
+
+
+def _impulse(n):
+    x = np.zeros(n)
+    x[0] = 1.0
+    return x
 
 
 def _lag_power(a, order):
@@ -206,7 +209,8 @@ class ColouredLoad(Effect):
 
     def signals(self, n_samples, ts, rng):
         unit = _lowpass_unit(n_samples, self.cutoff, self.order, rng)
-        return {f"{self.where}_load": self.std * unit}
+        unit *= self.std  # in place: a fresh array
+        return {f"{self.where}_load": unit}
 
 
 class NarrowbandDisturbance(Effect):
@@ -252,8 +256,9 @@ class NarrowbandDisturbance(Effect):
         a = [1.0, -2.0 * r * np.cos(w * np.sqrt(1 - self.damping**2)), r * r]
         burn = int(min(6.0 / (self.damping * w), 50_000))
         e = rng.standard_normal(n_samples + burn)
-        out = lfilter([1.0], a, e)[burn:]
-        h = lfilter([1.0], a, np.r_[1.0, np.zeros(burn + 256)])
+        b, a = _padded([1.0], a)
+        out = _lfilter(b, a, e, np.zeros(2))[burn:]
+        h = _lfilter(b, a, _impulse(burn + 257), np.zeros(2))
         out *= self.amplitude / np.sqrt(2.0 * np.sum(h * h))
         return {f"{self.where}_load": out}
 
@@ -304,7 +309,7 @@ class SquareDisturbance(Effect):
         wave = self.amplitude * np.where(idx % 2 == 0, 1.0, -1.0)
         if self.lag > 0:
             a = np.exp(-ts / self.lag)
-            wave = lfilter([1 - a], [1.0, -a], wave, zi=[a * wave[0]])[0]
+            wave = _lfilter(*_padded([1 - a], [1.0, -a]), wave, np.array([a * wave[0]]))
         return {f"{self.where}_load": wave}
 
 
@@ -374,11 +379,18 @@ class CascadeSetpoint(Effect):
         self.jitter = check_positive(jitter, "jitter", strict=False)
 
     def signals(self, n_samples, ts, rng):
-        e = rng.standard_normal(n_samples) * np.sqrt(1 - self.phi**2)
-        slow = lfilter([1.0], [1.0, -self.phi], e, zi=[self.phi * rng.standard_normal()])[0]
-        sp = self.std * (slow + self.jitter * rng.standard_normal(n_samples))
+        e = rng.standard_normal(n_samples)
+        e *= np.sqrt(1 - self.phi**2)
+        zi = np.array([self.phi * rng.standard_normal()])
+        slow = _lfilter(*_padded([1.0], [1.0, -self.phi]), e, zi)
+        # std * (slow + jitter * white), in place (fresh arrays)
+        sp = rng.standard_normal(n_samples)
+        sp *= self.jitter
+        sp += slow
+        sp *= self.std
         # the loop starts at rest on its setpoint: shift so that sp[0] = 0
-        return {"setpoint": sp - sp[0]}
+        sp -= sp[0]
+        return {"setpoint": sp}
 
 
 class LoadStep(Effect):

@@ -22,6 +22,7 @@ ShortRecord            record cut short (NaN padding)       ``n_samples``
 
 from __future__ import annotations
 
+import functools
 import numbers
 
 import numpy as np
@@ -63,11 +64,8 @@ def _span(x):
     n = len(x)
     if n < 2:
         return 0.0
-    v = (n - 1) * _SPAN_Q
-    i = np.floor(v)
-    t = v - i
-    i = i.astype(np.intp)
-    x.partition(np.unique(np.concatenate([i, i + 1])))  # x is a copy already
+    i, kth, t = _span_positions(n)
+    x.partition(kth)  # x is a copy already
     a, b = x[i], x[i + 1]
     d = b - a
     lo, hi = np.where(t < 0.5, a + d * t, b - d * (1 - t))  # numpy's lerp
@@ -75,6 +73,20 @@ def _span(x):
 
 
 _SPAN_Q = np.array([5.0, 95.0]) / 100
+
+
+@functools.lru_cache(maxsize=64)
+def _span_positions(n):
+    """Where :func:`_span` reads a sorted record of ``n`` samples: the lower indices, the
+    indices to partition at and the interpolation weights (records share a few lengths)."""
+    v = (n - 1) * _SPAN_Q
+    i = np.floor(v)
+    t = v - i
+    i = i.astype(np.intp)
+    kth = np.unique(np.concatenate([i, i + 1]))
+    for a in (i, kth, t):
+        a.flags.writeable = False
+    return i, kth, t
 
 
 def _noise_sd(x):
