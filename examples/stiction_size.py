@@ -9,9 +9,10 @@ A scan reports two sizes for a loop it calls sticky:
   valve that slips without oscillating.
 
 Sticky loops of ``make_loops`` carry their true band ``S`` (% of travel). For each world
-this prints, among the loops the scan calls sticky, how many each size covers, the median
-and quartiles of its ratio to ``S``, its rank correlation with ``S`` and the share within a
-factor of 2, and saves a log-log scatter of both sizes against ``S``.
+this prints, among the loops the scan calls sticky (and, for the fitted band, among those
+the shape library gives no size), how many each size covers, the median and quartiles of
+its ratio to ``S``, its rank correlation with ``S`` and the share within a factor of 2,
+and saves a log-log scatter of both sizes against ``S``.
 
 Run: python examples/stiction_size.py [n_loops] [figure.png]
 """
@@ -42,14 +43,17 @@ for ax, world in zip(axes, ("classic", "default")):
     report = scan_loops(X)
     called = (report["verdict"] == "stiction").to_numpy()
     S = meta["S"].to_numpy()
-    for column, label in SIZES.items():
+    no_cycle_size = ~np.isfinite(report["stiction_size_mean"].to_numpy(dtype=float))
+    for column, label, among in (*((c, lab, called) for c, lab in SIZES.items()),
+                                 ("stiction_band_fit", "fitted band, no peak-to-peak",
+                                  called & no_cycle_size)):  # fmt: skip
         size = report[column].to_numpy(dtype=float)
-        ok = called & np.isfinite(size) & (size > 0)
+        ok = among & np.isfinite(size) & (size > 0)
         ratio = size[ok] / S[ok]
         rows.append({
             "world": world,
             "size": label,
-            "called sticky": int(called.sum()),
+            "among": int(among.sum()),
             "sized": int(ok.sum()),
             "ratio q25": np.quantile(ratio, 0.25),
             "ratio median": np.median(ratio),
@@ -57,7 +61,8 @@ for ax, world in zip(axes, ("classic", "default")):
             "rank corr.": spearmanr(size[ok], S[ok])[0],
             "within x2": np.mean((ratio > 0.5) & (ratio < 2.0)),
         })  # fmt: skip
-        ax.loglog(S[ok], size[ok], ".", alpha=0.6, label=label)
+        if among is called:
+            ax.loglog(S[ok], size[ok], ".", alpha=0.6, label=label)
     ax.loglog([0.2, 20], [0.2, 20], "k--", lw=0.8, label="size = S")
     ax.set(title=f"{world} world", xlabel="true band S, % of travel")
 axes[0].set_ylabel("estimated size, % of travel")

@@ -81,7 +81,9 @@ def _block_means(x, k):
 def valve_fit(pv, op, k):
     """Valve dead-band model fit (:func:`~sktiction.features.stiction_model.fit_stiction_band`)
     on block means of ``k`` samples: averaging first keeps measurement noise from
-    drowning the few slips of a sticky valve. Returns ``(gain, band / OP span)``.
+    drowning the few slips of a sticky valve. Returns ``(gain, band, span)``: the share
+    of the linear model's residual the band removes, the band in OP units and OP's span
+    over the block means (the ``valve_fit_band_share`` column is ``band / span``).
 
     ``k`` is capped so that at least 60 blocks remain: a slow loop in a short record
     gets less averaging rather than no fit. Without the cap half of the measured
@@ -89,12 +91,6 @@ def valve_fit(pv, op, k):
     gain's AUC (sticky against healthy, 600-1,000 loops) rose from 0.82 to 0.87 in
     the classic world and from 0.67 to 0.74 in the default world.
     """
-    gain, band, span = _block_fit(pv, op, k)
-    return gain, band / span if np.isfinite(band) else np.nan
-
-
-def _block_fit(pv, op, k):
-    """:func:`valve_fit`'s fit: ``(gain, band in OP units, OP span of the block means)``."""
     k = max(1, min(k, pv.size // 60))
     p, o = _block_means(pv, k), _block_means(op, k)
     span = np.ptp(o)
@@ -137,6 +133,11 @@ def valve_band(pv, op):
     band : float
         In OP's units; NaN when the fit gives no size (see above).
 
+    Raises
+    ------
+    ValueError
+        If ``pv`` and ``op`` are not 1-D arrays of one length, or hold NaN or inf.
+
     Examples
     --------
     >>> from sktiction.datasets import make_loops
@@ -148,7 +149,14 @@ def valve_band(pv, op):
     >>> [round(valve_band(x[:, 0], x[:, 1]), 1) for x in X]
     [4.8, nan]
     """
-    loop = np.stack([pv, op], axis=-1).astype(float)[None]  # channels PV, OP
+    pv, op = np.asarray(pv, dtype=float), np.asarray(op, dtype=float)
+    if pv.ndim != 1 or pv.shape != op.shape:
+        raise ValueError(f"pv and op must be 1-D and of one length; got {pv.shape} and "
+                         f"{op.shape}.")  # fmt: skip
+    if not (np.isfinite(pv).all() and np.isfinite(op).all()):
+        raise ValueError("pv and op must hold finite numbers only: cut NaN padding and "
+                         "bridge gaps first.")  # fmt: skip
+    loop = np.stack([pv, op], axis=-1)[None]  # channels PV, OP
     return analysed_valve_band(LoopAnalysis(loop, 0, loop.shape[1]))
 
 
@@ -262,7 +270,7 @@ class PVOPHysteresis(LoopTransformer):
         slow = _slow_window(analysis)
         stuck, moving = stuck_share(pv, op, slow, scales)
         row += [stuck, moving, hysteresis_fill(pv, op, slow, np.nan)]
-        gain, band, span = _analysed_block_fit(analysis)
+        gain, band, span = _analysed_valve_fit(analysis)
         return row + [gain, band / span if np.isfinite(band) else np.nan]
 
 
@@ -272,17 +280,17 @@ def _slow_window(analysis):
     return analysis.memo("op_slow_window", lambda: max(2, round(time_scale(op, op.size) / 4)))
 
 
-def _analysed_block_fit(analysis):
-    """:func:`_block_fit` at :func:`_slow_window`, kept in the analysis: the learned
+def _analysed_valve_fit(analysis):
+    """:func:`valve_fit` at :func:`_slow_window`, kept in the analysis: the learned
     model's columns and a scan's :func:`analysed_valve_band` share one fit."""
     slow = _slow_window(analysis)
     pv, op = analysis.signal("pv"), analysis.signal("op")
-    return analysis.memo(("valve_fit", slow), lambda: _block_fit(pv, op, slow))
+    return analysis.memo(("valve_fit", slow), lambda: valve_fit(pv, op, slow))
 
 
 def analysed_valve_band(analysis):
     """:func:`valve_band` of an analysed loop (a
     :class:`~sktiction.features._loops.LoopAnalysis`), reusing a fit already made for
     :class:`PVOPHysteresis` on it."""
-    gain, band, _ = _analysed_block_fit(analysis)
+    gain, band, _ = _analysed_valve_fit(analysis)
     return float(band) if gain >= MIN_BAND_GAIN else np.nan
