@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from sktiction._validation import repair_gaps
-from sktiction.datasets import read_loop_file
+from sktiction.datasets import make_loops, read_loop_file
 from sktiction.reports import _stream, scan_files, scan_loops
 from sktiction.reports import scan as scan_module
 from sktiction.reports.scan import REPORT_COLUMNS, _applicability_gate
@@ -223,3 +223,24 @@ def test_the_applicability_gate_is_applied_to_files(tmp_path, monkeypatch):
     assert report["file"].tolist() == ["A_notes.doc", "FIC1.csv", "FIC2.csv"]
     assert report["verdict"].tolist() == ["no_verdict", "stiction", "no_verdict"]
     assert report["reason"].tolist()[1:] == ["ok", "pv_op_unrelated"]
+
+
+def test_gap_free_files_skip_repair_gaps_with_its_answer():
+    """A file without a missing value gets repair_gaps' own info without running it; one
+    with a gap, a leading NaN, or an inf in a channel it has goes through repair_gaps."""
+    from sktiction.reports._stream import _gap_free
+
+    X, _ = make_loops(3, n_samples=300, random_state=0)
+    X[1, 250:] = np.nan  # a shorter loop (padding)
+    X[2, :, 2] = np.nan  # a loop without SP
+    lengths = _gap_free(X)
+    _, info = repair_gaps(X)
+    assert lengths.tolist() == info["kept_stop"].tolist() == [300, 250, 300]
+    assert (info[["n_bridged", "n_gaps_split", "kept_start"]] == 0).all().all()
+    for where in ((0, 100, 0), (1, 0, 1), (2, 10, 1)):
+        bad = X.copy()
+        bad[where] = np.nan
+        assert _gap_free(bad) is None
+    bad = X.copy()
+    bad[0, 5, 1] = np.inf
+    assert _gap_free(bad) is None
