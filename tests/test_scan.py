@@ -257,3 +257,15 @@ def test_the_model_runs_in_one_process_inside_the_scan_workers(small_learned, no
     np.testing.assert_array_equal(
         scan_loops(X, classifier=parallel)["stiction_probability"], parallel.predict_proba(X)[:, 1]
     )
+
+
+def test_shared_models_are_unpickled_once_per_worker_and_scan():
+    blob = scan_module._SharedBlob([{"model": 1}, [2]])
+    first = blob.load()
+    assert first == ({"model": 1}, [2])
+    assert blob.load() is first  # cached: not unpickled again
+    other = scan_module._SharedBlob(["next scan"])
+    assert other.load() == ("next scan",)
+    assert list(scan_module._WORKER_SHARED) == [other.token]  # one scan's models kept
+    result = scan_module._with_shared(lambda a, b, c: (a, b, c), (1, 2), other)
+    assert result == (1, 2, "next scan")
