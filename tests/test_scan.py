@@ -269,3 +269,15 @@ def test_shared_models_are_unpickled_once_per_worker_and_scan():
     assert list(scan_module._WORKER_SHARED) == [other.token]  # one scan's models kept
     result = scan_module._with_shared(lambda a, b, c: (a, b, c), (1, 2), other)
     assert result == (1, 2, "next scan")
+
+
+def test_a_band_fit_that_fails_costs_the_size_not_the_verdict(monkeypatch, small_learned):
+    def fail(analysis):
+        raise np.linalg.LinAlgError("singular")
+
+    monkeypatch.setattr(scan_module, "analysed_valve_band", fail)
+    X, _ = make_loops(6, n_samples=1500, stiction_fraction=1.0, world="classic",
+                      random_state=4)  # fmt: skip
+    report = scan_loops(X, classifier=small_learned)
+    assert (report["status"] == "ok").all() and (report["verdict"] == "stiction").any()
+    assert report["stiction_band_fit"].isna().all()

@@ -228,7 +228,10 @@ def _fitted_bands(analyses, sticky):
     package's learned model has usually fitted it already on the same analyses."""
     band = np.full(len(analyses), np.nan)
     for i in np.flatnonzero(sticky):
-        band[i] = analysed_valve_band(analyses[i])
+        try:
+            band[i] = analysed_valve_band(analyses[i])
+        except (np.linalg.LinAlgError, ValueError, FloatingPointError):
+            pass  # no size rather than no verdict: the size is evidence, not the answer
     return band
 
 
@@ -314,7 +317,7 @@ def run_units(fn, units, shared, *, n_jobs=None, client=None, bar=None, sizes=No
     if client is None:
         if effective_n_jobs(n_jobs) > 1:
             # the models once as bytes, unpickled once per worker: pickled with every
-            # work unit they cost the parent about 3 ms of CPU per loop (1 MB/s)
+            # work unit they cost the parent about 3 ms of CPU per loop
             blob = _SharedBlob(shared)
             jobs = (delayed(_with_shared)(fn, unit, blob) for unit in units)
         else:
