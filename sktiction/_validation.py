@@ -243,6 +243,13 @@ def _bridge_limit(pv):
     return max(1, min(limit, int(GAP_RECORD_FRACTION * n)))
 
 
+def missing_samples(loop, n):
+    """The channels one loop has (not all NaN) and which of its first ``n`` samples miss a
+    value (NaN) in one of them: what :func:`repair_gaps` bridges, splits or cuts."""
+    present = ~np.isnan(loop).all(axis=0)
+    return present, np.isnan(loop[:n, present]).any(axis=1)
+
+
 def repair_gaps(X, max_gap="auto", *, min_length=20):
     """Bridge short NaN gaps; split records at long ones and keep the longest stretch.
 
@@ -305,8 +312,7 @@ def repair_gaps(X, max_gap="auto", *, min_length=20):
     rows = []
     for i, n in enumerate(lengths):
         rec = X[i, :n]
-        present = ~np.isnan(X[i]).all(axis=0)
-        missing = np.isnan(rec[:, present]).any(axis=1)
+        present, missing = missing_samples(X[i], n)
         limit = _bridge_limit(rec[:, PV]) if max_gap == "auto" else int(max_gap)
         edges = np.diff(np.concatenate([[0], missing.astype(np.int8), [0]]))
         starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)

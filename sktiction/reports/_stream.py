@@ -12,7 +12,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from .._validation import STATUS_OK, check_loops, loop_lengths, repair_gaps
+from .._validation import (
+    STATUS_OK,
+    check_loops,
+    loop_lengths,
+    missing_samples,
+    repair_gaps,
+)
 from ..classifiers import pretrained_classifier
 from ..datasets import list_loop_files, read_loop_file
 from .scan import (
@@ -59,8 +65,7 @@ def _gap_free(X):
     channel it has, else None: then ``repair_gaps`` has nothing to bridge, split or cut."""
     lengths = loop_lengths(X)
     for x, n in zip(X, lengths):
-        present = ~np.isnan(x).all(axis=0)
-        if not np.isfinite(x[:n, present]).all():
+        if missing_samples(x, n)[1].any() or np.isinf(x[:n]).any():
             return None
     return lengths
 
