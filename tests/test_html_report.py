@@ -106,14 +106,18 @@ def test_console_check_can_fail(tmp_path):
     assert any("noSuchFunction" in line for line in console)
 
 
-def test_table_sorts_in_the_browser(report_and_loops, tmp_path):
+@pytest.mark.parametrize("how", ["name", "-name", "index"])
+def test_table_sorts_in_the_browser(report_and_loops, tmp_path, how):
     report, X = report_and_loops
     page = write_html_report(report, X, path=tmp_path / "report.html")
     header = re.search(r"<thead><tr>(.*?)</tr></thead>", page.read_text()).group(1)
-    column = re.findall(r"<th>(.*?)</th>", header).index("p(stiction)")
-    dom, console = _browse(page, tmp_path, "--dump-dom", fragment=f"#sort={column}")
+    column = re.findall(r"<th[^>]*>(.*?)</th>", header).index("p(stiction)")
+    fragment = {"name": "#sort=stiction_probability", "-name": "#sort=-stiction_probability",
+                "index": f"#sort={column}"}[how]  # fmt: skip
+    dom, console = _browse(page, tmp_path, "--dump-dom", fragment=fragment)
     assert console == []
     body = dom[dom.index("<tbody>"):dom.index("</tbody>")]
     order = [int(i) for i in re.findall(r'id="row-(\d+)"', body)]
-    # ascending probability (0.12, 0.71, 0.93), then the loops without one
-    assert order[:3] == [1, 2, 0] and sorted(order[3:]) == [3, 4]
+    # probability 0.12, 0.71, 0.93 ascending (descending with "-"), then loops without one
+    assert order[:3] == ([0, 2, 1] if how == "-name" else [1, 2, 0])
+    assert sorted(order[3:]) == [3, 4]

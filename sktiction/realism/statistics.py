@@ -435,9 +435,10 @@ def _one_loop(x, ts):
     if pv_first is None:
         return row
     sp = _fill(sp) if has_sp else sp
-    pv_span, pv, spikes, pv_noise, same_pv, pv_rep = pv_first
+    pv_span, pv, pv_noise = pv_first.span, pv_first.clean, pv_first.noise
+    same_pv, pv_rep = pv_first.same, pv_first.repeat_fraction
     pv_reuse = _level_reuse(pv, same_pv)
-    spikes = [spikes]
+    spikes = [pv_first.spike_sizes]
     err = pv - sp if has_sp else pv
     err_span = _span(err)
     if pv_noise is None:
@@ -460,9 +461,10 @@ def _one_loop(x, ts):
     row.update(acf_peak=peak, period=period, regularity=reg, decorrelation_lag=decor)
 
     if op_first is not None:
-        op_span, op, op_spikes, op_noise, same_op, op_rep = op_first
+        op_span, op, op_noise = op_first.span, op_first.clean, op_first.noise
+        same_op, op_rep = op_first.same, op_first.repeat_fraction
         op_reuse = _level_reuse(op, same_op)
-        spikes.append(op_spikes)
+        spikes.append(op_first.spike_sizes)
         if op_noise is None:
             op_noise = _noise_sd(op, same_op)
         row.update(op_span=op_span, op_noise=op_noise, op_repeat_fraction=op_rep)

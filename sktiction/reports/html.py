@@ -69,9 +69,12 @@ _JS = r"""
   }
   for(var i=0;i<heads.length;i++){(function(c){heads[c].addEventListener('click',
     function(){sortBy(c);});})(i);}
-  // a link ending in #sort=N opens the table sorted by column N (N counts from 0)
-  var m=/^#sort=(\d+)$/.exec(window.location.hash);
-  if(m&&+m[1]<heads.length){sortBy(+m[1]);}
+  // #sort=NAME opens the table sorted by the report column NAME (#sort=-NAME: descending);
+  // names survive columns being added, unlike the older #sort=N (N counts from 0)
+  var m=/^#sort=(-?)([A-Za-z0-9_]+)$/.exec(window.location.hash), col=-1;
+  if(m){for(var j=0;j<heads.length;j++){if(heads[j].getAttribute('data-col')===m[2]){col=j;}}
+    if(col<0&&/^\d+$/.test(m[2])&&+m[2]<heads.length){col=+m[2];}}
+  if(col>=0){sortBy(col);if(m[1]==='-'){sortBy(col);}}
   function check(){
     var pics=document.images, ok=0;
     for(var i=0;i<pics.length;i++){if(pics[i].complete&&pics[i].naturalWidth>0){ok++;}}
@@ -149,7 +152,8 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
     """Write a scan report as ONE self-contained HTML file people would rather read.
 
     A sortable table of loops (click a header to sort, or open the file with
-    ``#sort=N`` to sort by column ``N``: verdict, probability of
+    ``#sort=NAME`` to sort by the report column ``NAME``, ``#sort=-NAME`` for
+    descending, e.g. ``#sort=-stiction_probability``: verdict, probability of
     stiction, stiction size in % of valve travel, the fitted dead band, oscillation
     period, area ratio, status and reason), then for each loop a figure: the trend of PV, SP and OP
     with the detected cycles shaded and the matched OP/PV templates named on each
@@ -241,7 +245,7 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
         table["status"] = table["input_status"]
 
     cols = [c for c in TABLE_COLUMNS if c[0] in table]
-    head = "".join(f"<th>{html.escape(h)}</th>" for _, h, _ in cols)
+    head = "".join(f'<th data-col="{c}">{html.escape(h)}</th>' for c, h, _ in cols)
     body = []
     for i in range(n):
         verdict = str(table["verdict"].iloc[i]) if "verdict" in table else ""
