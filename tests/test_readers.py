@@ -1,16 +1,20 @@
 """The file layer of the readers: file kinds, encodings, separators and historian headers."""
 
 import codecs
+import csv
 import sys
 
+import numpy as np
 import pandas as pd
 import pytest
 
 from sktiction.datasets._readers import (
     FileError,
+    _blank_rows,
     _choose_separator,
     _delimited_header,
     _encoding,
+    _fields,
     _historian_header,
     _time_format,
     file_kind,
@@ -309,3 +313,40 @@ def test_parquet(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "pyarrow.parquet", None)
     with pytest.raises(FileError, match="^reading parquet files needs pyarrow: pip install"):
         open_table(path, "parquet")
+
+
+@pytest.mark.parametrize(
+    "line",
+    ["a,b;c|d\te", "1,,2,", ";x;", "\ufeffname,v", "'q',x", 'a,"b,c",d', '"a";b', "a\0,b", " , "],
+)
+@pytest.mark.parametrize("sep", [",", ";", "|", "\t"])
+def test_fields_as_the_csv_module_splits_them(line, sep):
+    assert _fields(line, sep) == next(csv.reader([line], delimiter=sep), [])
+
+
+@pytest.mark.parametrize("end", ["\n", "\r\n", "\r", "mixed"])
+def test_text_file_line_ends(tmp_path, end):
+    lines = ["# title", "time,PV,OP", "0,1,2", "", "1,2,3", "2,3,4"]
+    ends = ["\r\n", "\n", "\r", "\n", "\r\n", "\n"] if end == "mixed" else [end] * 6
+    path = tmp_path / "loop.csv"
+    path.write_bytes("".join(a + b for a, b in zip(lines, ends)).encode())
+    table = open_table(path, "text")
+    assert table.names == ["time", "PV", "OP"]
+    assert table.read([0, 1, 2]).values.tolist() == [[0, 1, 2], [1, 2, 3], [2, 3, 4]]
+    assert table.info["notes"][:1] == ["1 line before the header skipped (titles or comments)"]
+
+
+@pytest.mark.parametrize(
+    "columns",
+    [
+        {0: [1.0, np.nan, np.inf], 1: [np.nan, np.nan, 2.0]},
+        {0: [1, 2, 3], 1: [np.nan, np.nan, np.nan]},
+        {0: [True, False, True], 1: [np.nan, np.nan, 2.0]},
+        {0: ["a", None, "c"], 1: [np.nan, np.nan, 2.0]},
+        {0: pd.array([1, None, 3], dtype="Int64"), 1: [np.nan, np.nan, 2.0]},
+        {0: np.array([1.0, np.nan, 2.0], dtype=np.float32), 1: [np.nan, np.nan, np.nan]},
+    ],
+)
+def test_blank_rows_as_pandas_finds_them(columns):
+    frame = pd.DataFrame(columns)
+    np.testing.assert_array_equal(_blank_rows(frame), frame.isna().all(axis=1).to_numpy())

@@ -4,6 +4,7 @@ that cannot be read. A stand-in model (probability a known function of PV) keeps
 """
 
 import re
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -142,14 +143,14 @@ def test_files_that_need_arguments_say_so(site, tmp_path):
 
 
 def test_a_file_the_reader_chokes_on_gets_an_error_row(site, monkeypatch):
-    real = _stream.read_loop_file
+    real = _stream.read_loop_rows
 
-    def choking(path, **kwargs):
+    def choking(path, *args):
         if path.endswith("FIC002.csv"):
             raise RuntimeError("disk on fire")
-        return real(path, **kwargs)
+        return real(path, *args)
 
-    monkeypatch.setattr(_stream, "read_loop_file", choking)
+    monkeypatch.setattr(_stream, "read_loop_rows", choking)
     report = scan_files(site, classifier=Spread(), chunk_size=4, ts=1.0)
     row = report.iloc[1]
     assert (row["file"], row["input_status"], row["status"], row["verdict"]) == (
@@ -244,3 +245,21 @@ def test_gap_free_files_skip_repair_gaps_with_its_answer():
     bad = X.copy()
     bad[0, 5, 1] = np.inf
     assert _gap_free(bad) is None
+
+
+@pytest.mark.parametrize("ts", [None, 2.0])
+def test_the_stream_reads_what_read_loop_file_reads(ts):
+    # the stream builds one meta table per chunk from row dicts: the same as read_loop_file
+    exports = Path(__file__).resolve().parent / "data" / "exports"
+    paths = sorted(p for p in exports.rglob("*") if p.is_file()) + [exports / "missing.csv"]
+    rows, metas = [], []
+    for path in paths:
+        X, file_rows, _ = _stream.read_loop_rows(str(path), None, ts)
+        data = read_loop_file(str(path), ts=ts)
+        np.testing.assert_array_equal(X, data.X)
+        rows += file_rows
+        metas.append(data.meta)
+    assert len({r["status"] for r in rows}) == 3  # ok, error and unsupported files
+    pd.testing.assert_frame_equal(_stream._meta(rows), pd.concat(metas, ignore_index=True))
+    with pytest.raises(ValueError, match="ts must be"):
+        _stream.read_loop_rows(str(paths[0]), None, -1.0)

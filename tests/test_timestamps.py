@@ -281,3 +281,13 @@ def test_last_sample_on_the_grid_next_to_nan_and_gap_counts():
     t = np.array([0.0, 10, 20, 50, 60, 100, 110, 115])
     notes = regularise(t, t.copy())[3]
     assert notes[0].endswith("; 1 time gap longer than 3 steps left as NaN (3 rows)")
+
+
+def test_numeric_columns_of_any_numpy_dtype_and_all_missing():
+    # ints, floats with NaN and inf: read as numbers, as through the general branch
+    t, start, notes = parse_times(pd.Series([3, 5, 9]))
+    assert t.tolist() == [0.0, 2.0, 6.0] and pd.isna(start) and notes == []
+    t = parse_times(pd.Series([2.0, np.nan, 4.0, np.inf]))[0]
+    np.testing.assert_array_equal(t, [0.0, np.nan, 2.0, np.inf])
+    with pytest.raises(TimeError, match="time column is empty"):
+        parse_times(pd.Series([np.nan, np.nan]))

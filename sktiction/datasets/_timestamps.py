@@ -219,6 +219,12 @@ default="auto"
     >>> notes[0].split(" (")[0]
     'time read as epoch milliseconds'
     """
+    if isinstance(raw.dtype, np.dtype) and raw.dtype.kind in "fiu":
+        # Plain numbers, the usual case: the branch below in numpy, without pandas' overhead.
+        values = raw.to_numpy(dtype=float)
+        if not np.isnan(values).all():
+            t, start, note = _numeric_times(values, unit)
+            return t, start, [note] if note else []
     if pd.api.types.is_datetime64_any_dtype(raw):
         stamps, notes = pd.Series(raw), []
         if stamps.dt.tz is not None:

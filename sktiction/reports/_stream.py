@@ -20,7 +20,8 @@ from .._validation import (
     repair_gaps,
 )
 from ..classifiers import pretrained_classifier
-from ..datasets import list_loop_files, read_loop_file
+from ..datasets import list_loop_files
+from ..datasets._measured import _meta_frame, read_loop_rows
 from .scan import (
     NO_VERDICT,
     REPORT_COLUMNS,
@@ -70,11 +71,20 @@ def _gap_free(X):
     return lengths
 
 
+def _meta(rows):
+    """Meta DataFrame of some files' loops (as read_loop_file's meta, concatenated), with
+    the gap-repair columns when the rows hold them."""
+    meta = _meta_frame(rows)
+    if rows and _GAP_COLUMNS[0] in rows[0]:
+        gaps = {c: np.array([r[c] for r in rows], dtype=float) for c in _GAP_COLUMNS}
+        meta = pd.concat([meta, pd.DataFrame(gaps)], axis=1)
+    return meta
+
+
 def _read(path, channels, ts, max_gap):
-    """One file's loops and meta, short gaps bridged (``repair_gaps``) when asked."""
-    data = read_loop_file(path, channels=channels, ts=ts)
-    X, meta = data.X, data.meta.reset_index(drop=True)
-    readable = (meta["status"].to_numpy() == STATUS_OK) & (X.shape[1] > 0)
+    """One file's loops and meta rows, short gaps bridged (``repair_gaps``) when asked."""
+    X, rows, _ = read_loop_rows(path, channels, ts)
+    readable = np.array([r["status"] == STATUS_OK for r in rows]) & (X.shape[1] > 0)
     if max_gap is not None and readable.any():
         idx = np.flatnonzero(readable)
         lengths = _gap_free(X[idx])
@@ -84,29 +94,30 @@ def _read(path, channels, ts, max_gap):
             repaired, info = repair_gaps(X[idx], max_gap=max_gap)
             X = X.copy()
             X[idx] = repaired[:, : X.shape[1]]
-        for col in _GAP_COLUMNS:  # whole columns at once: .loc per column cost 3 ms per file
-            values = np.full(len(meta), np.nan)
+        for col in _GAP_COLUMNS:
+            values = np.full(len(rows), np.nan)
             values[idx] = np.asarray(info[col], dtype=float)
-            meta[col] = values
-    return X, meta, readable
+            for row, value in zip(rows, values.tolist()):
+                row[col] = value
+    return X, rows, readable
 
 
 def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
     """Read and scan one work unit of files; return their report rows in file order."""
     out = []
-    pending, pending_meta = [], []  # readable loops waiting to fill a chunk
+    pending, pending_rows = [], []  # readable loops waiting to fill a chunk, their meta rows
 
     def flush():
         if not pending:
             return
-        meta = pd.concat(pending_meta, ignore_index=True)
+        meta = _meta(pending_rows)
         loops = check_loops(_pad(pending))
         report = _scan_safely(
             loops, loop_types_of(meta, len(meta)), learned, rules, sampling_times(meta), gate
         )
         out.append(join_meta(meta, report))
         pending.clear()
-        pending_meta.clear()
+        pending_rows.clear()
 
     for path, supported, reason in files:
         if not supported:
@@ -122,8 +133,9 @@ def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
             out.append(join_meta(meta, _unreadable_rows(meta)))
             continue
         try:
-            X, meta, readable = _read(path, channels, ts, max_gap)
+            X, rows, readable = _read(path, channels, ts, max_gap)
         except Exception as exc:  # noqa: BLE001 - one odd file must not stop the scan
+            flush()
             meta = pd.DataFrame(
                 {
                     "file": [Path(path).name],
@@ -132,18 +144,19 @@ def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
                     "reason": [f"{type(exc).__name__}: {exc}"],
                 }
             )
-            X, readable = np.full((1, 0, 3), np.nan), np.zeros(1, dtype=bool)
+            out.append(join_meta(meta, _unreadable_rows(meta)))
+            continue
         if not readable.all():
             flush()  # keep file order: rows of unreadable loops go where the file is
             if readable.any():
                 pending.append(X[readable])
-                pending_meta.append(meta[readable].reset_index(drop=True))
+                pending_rows.extend(r for r, ok in zip(rows, readable) if ok)
                 flush()
-            bad = meta[~readable].reset_index(drop=True)
+            bad = _meta([r for r, ok in zip(rows, readable) if not ok])
             out.append(join_meta(bad, _unreadable_rows(bad)))
             continue
         pending.append(X)
-        pending_meta.append(meta)
+        pending_rows.extend(rows)
         if sum(len(p) for p in pending) >= chunk_size:
             flush()
     flush()
