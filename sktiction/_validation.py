@@ -47,6 +47,25 @@ def _check_numeric_columns(X, name):
             raise TypeError(f"{name} has non-numeric columns: {', '.join(bad)}.")
 
 
+_CHANNEL_NAMES = ("pv", "op", "sp")
+
+
+def _check_not_one_loop_table(X, name):
+    """A 2-D table with PV/OP/SP columns is one loop, not one PV record per row: read as
+    rows it would silently become thousands of loops of three samples."""
+    columns = getattr(X, "columns", None)
+    if columns is None or np.ndim(X) != 2:
+        return
+    named = [c for c in columns if str(c).strip().lower() in _CHANNEL_NAMES]
+    if named:
+        raise ValueError(
+            f"{name} is a table with channel columns {named}: one loop, whereas 2-D input "
+            "means one PV record per row. Pass one loop as "
+            f"{name}[['PV', 'OP', 'SP']].to_numpy()[None] (shape (1, n_samples, 3)), or read "
+            "files with sktiction.datasets.read_loop_file."
+        )
+
+
 def check_loops(X, *, name="X"):
     """Return loops as a float array ``(n_loops, n_samples, 3)``.
 
@@ -69,8 +88,9 @@ def check_loops(X, *, name="X"):
     TypeError
         If the values are not numeric, or X is sparse.
     ValueError
-        If X is 1-D or more than 3-D, empty, has more than three channels, or
-        holds infinite or complex values.
+        If X is 1-D or more than 3-D, empty, has more than three channels, holds
+        infinite or complex values, or is a 2-D table with columns named PV, OP or SP
+        (one loop, not one PV record per row).
 
     Examples
     --------
@@ -80,6 +100,7 @@ def check_loops(X, *, name="X"):
     (2, 5, 3)
     """
     _check_numeric_columns(X, name)
+    _check_not_one_loop_table(X, name)
     if np.ndim(X) != 3:
         # 2-D input goes through scikit-learn's own checks and messages
         arr = check_array(

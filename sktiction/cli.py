@@ -5,7 +5,9 @@ Exit codes (``sktiction scan``):
 - ``0``: every file was read and every loop scanned (a loop may still get
   ``no_verdict`` with its reason: that is an answer, not a failure);
 - ``1``: some files or loops could not be read; the others were scanned, and the
-  table and the output name each failure with its reason;
+  table and the output name each failure with its reason (files that are not loop
+  files, such as a README or a folder index, are listed as ``unsupported`` but are
+  not failures);
 - ``2``: usage error, a path that does not exist, or no file could be read at all.
   These exit at once, before any model is trained or loaded.
 
@@ -83,7 +85,12 @@ def _output_format(args):
     fmt = args.format
     if fmt is None and args.output:
         suffix = Path(args.output).suffix.lower().lstrip(".")
-        fmt = suffix if suffix in FORMATS else "csv"
+        if suffix and suffix not in FORMATS:
+            # writing CSV text into report.xlsx would give a file its program cannot open
+            raise UsageError(f"-o {args.output}: no writer for .{suffix} files; use a "
+                             f".{', .'.join(FORMATS)} name or say --format "
+                             f"{{{','.join(FORMATS)}}}.")  # fmt: skip
+        fmt = suffix or "csv"
     fmt = fmt or "csv"
     if fmt == "parquet":
         try:
@@ -93,6 +100,21 @@ def _output_format(args):
                 "--format parquet needs pyarrow: pip install pyarrow (or use csv or json)."
             ) from exc
     return fmt
+
+
+def _check_writable(*paths):
+    """Output files must go to existing folders: found after a long scan, it would lose
+    the scan."""
+    for path in paths:
+        if not path:
+            continue
+        folder = Path(path).expanduser().resolve().parent
+        if Path(path).is_dir():
+            raise UsageError(f"{path} is a folder; give a file name to write to.")
+        if not folder.is_dir():
+            raise UsageError(f"cannot write {path}: no folder {folder}.")
+        if not os.access(folder, os.W_OK):
+            raise UsageError(f"cannot write {path}: folder {folder} is not writable.")
 
 
 def _write_table(report, path, fmt):
@@ -139,6 +161,10 @@ def _console_table(report):
         if col in report:
             table[col] = report[col]
     reason = report["reason"].fillna("").astype(str) if "reason" in report else ""
+    if "shape_reason" in report:  # a verdict the shape library could not back, and why
+        shape = report["shape_reason"].fillna("").astype(str)
+        weak = (reason == "ok") & ~shape.isin(["", "ok"])
+        reason = reason.where(~weak, "ok; shapes: " + shape)
     if "input_reason" in report:
         notes = report["input_reason"].fillna("").astype(str)
         failed = table["read"] != "ok"
@@ -157,6 +183,21 @@ def _positive_int(text):
     return value
 
 
+def _n_jobs(text):
+    value = int(text)
+    if value == 0:
+        raise argparse.ArgumentTypeError("must not be 0 (1 for one process, -1 for every "
+                                         "core, N for N workers)")  # fmt: skip
+    return value
+
+
+def _positive_float(text):
+    value = float(text)
+    if not (np.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a positive number of seconds; got {text}")
+    return value
+
+
 def _top(table, n):
     """The ``n`` rows most likely sticky (verdict stiction, by probability), then every
     row that could not be read: what a site scan's console should show first."""
@@ -167,10 +208,14 @@ def _top(table, n):
 
 
 def _verdict_counts(report):
-    """One line: how many loops got each verdict."""
-    counts = report["verdict"].value_counts()
+    """One line: how many loops got each verdict (rows of files that gave no loop are not
+    loops)."""
+    loops = report
+    if "status" in report:
+        loops = report[report["status"].astype(str).ne("unreadable")]
+    counts = loops["verdict"].value_counts()
     parts = [f"{counts.get(v, 0)} {v}" for v in ("stiction", "no_stiction", "no_verdict")]
-    return f"verdicts of {len(report)} loops: " + ", ".join(parts)
+    return f"verdicts of {len(loops)} loops: " + ", ".join(parts)
 
 
 def _print_table(table, file=None):
@@ -232,6 +277,7 @@ class _FileLoops:
 def _scan(args):
     channels = _parse_channels(args.channels)
     fmt = _output_format(args)
+    _check_writable(args.output, args.report)
     missing = [p for p in args.paths if not Path(p).exists()]
     if missing:
         raise UsageError("no such file or folder: " + ", ".join(missing))
@@ -278,7 +324,12 @@ def _scan(args):
     table = _console_table(report)
     _print_table(table if args.top is None else _top(table, args.top))
     print("\n" + _verdict_counts(report), file=sys.stderr)
-    failed = int((table["read"] != "ok").sum())
+    # a README or a folder index beside the loop files is listed, not a failure
+    other = int((table["read"] == "unsupported").sum())
+    if other:
+        print(f"{other} file{'s are' if other > 1 else ' is'} not loop files (read "
+              "'unsupported', listed with the reason).", file=sys.stderr)
+    failed = int((~table["read"].isin(["ok", "unsupported"])).sum())
     if failed:
         print(f"\n{failed} of {len(table)} files or loops could not be read (see 'read' and "
               f"'reason'); exit code {EXIT_READ_FAILURES}.", file=sys.stderr)
@@ -287,6 +338,7 @@ def _scan(args):
 
 
 def _demo(args):
+    _check_writable(args.report)
     from .datasets import load_example
     from .reports import scan_loops
 
@@ -385,9 +437,10 @@ def build_parser():
     scan.add_argument("--report", help="also write a self-contained HTML report here")
     scan.add_argument("--channels", help="column names, e.g. pv=FIC101.PV,op=FIC101.OP,"
                       "sp=FIC101.SP (also time=..., mode=...)")
-    scan.add_argument("--ts", type=float, default=None,
+    scan.add_argument("--ts", type=_positive_float, default=None,
                       help="sampling time in seconds, for files without a time column")
-    scan.add_argument("-j", "--n-jobs", type=int, default=None, help="parallel workers")
+    scan.add_argument("-j", "--n-jobs", type=_n_jobs, default=None,
+                      help="parallel workers (-1: every core)")
     scan.add_argument("--scheduler", default=None,
                       help="address of a dask.distributed scheduler to scan on")
     scan.add_argument("-q", "--quiet", action="store_true", help="no progress output")

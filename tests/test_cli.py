@@ -11,6 +11,7 @@ import pandas as pd
 import pytest
 
 from sktiction import cli
+from sktiction.datasets import make_loops
 
 PLANT = resources.files("sktiction.datasets") / "data" / "plant"
 
@@ -70,6 +71,38 @@ def test_bad_channels_is_a_usage_error(no_training, folder, capsys):
     assert "--channels" in capsys.readouterr().err
     assert cli.main(["scan", str(folder), "--channels", "flow=A"]) == 2
     assert "unknown channel 'flow'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        (["-o", "{tmp}/no_such_folder/x.csv"], "no folder"),
+        (["--report", "{tmp}/no_such_folder/r.html"], "no folder"),
+        (["-o", "{tmp}"], "is a folder"),
+        (["-o", "{tmp}/report.xlsx"], "no writer for .xlsx"),
+        (["-j", "0"], "must not be 0"),
+        (["--ts", "0"], "positive number of seconds"),
+        (["--ts", "-1"], "positive number of seconds"),
+    ],
+)
+def test_bad_outputs_and_options_exit_2_before_the_scan(no_training, folder, tmp_path, capsys,
+                                                        extra, message):
+    """Found after the scan, they would cost the whole scan (and gave a traceback)."""
+    args = [a.format(tmp=tmp_path) for a in extra]
+    assert cli.main(["scan", str(folder), "-q", *args]) == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "report.xlsx").exists()
+
+
+def test_files_that_are_not_loops_are_listed_not_failures(quick, folder, tmp_path, capsys):
+    (folder / "broken.csv").unlink()
+    (folder / "LICENSE").write_text("not a loop")
+    out = tmp_path / "out.csv"
+    assert cli.main(["scan", str(folder), "-q", "-o", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "LICENSE" in captured.out and "unsupported" in captured.out
+    assert "verdicts of 2 loops" in captured.err and "1 file is not" in captured.err
+    assert pd.read_csv(out)["file"].tolist().count("LICENSE") == 1
 
 
 def test_some_files_fail_exit_1_and_the_table_says_why(quick, folder, tmp_path, capsys):
@@ -206,5 +239,37 @@ def test_top_option_on_the_command_line(quick, folder, tmp_path, capsys):
     shown = [line for line in captured.out.splitlines()[1:] if line.strip()]
     assert len(shown) == min(1, int((full["verdict"] == "stiction").sum())) + 1
     assert "broken.csv" in captured.out
-    assert "verdicts of 3 loops" in captured.err
+    assert "verdicts of 2 loops" in captured.err  # broken.csv holds no loop
     assert cli.main(["scan", str(folder), "--top", "0"]) == 2  # a usage error
+
+
+def test_compare_skips_a_loop_with_infinite_values_and_names_it(no_training, tmp_path, capsys):
+    """One broken value must not abort the comparison of the others."""
+    pytest.importorskip("sktiction.realism._cli")
+    X, _ = make_loops(3, n_samples=400, random_state=0)
+    X[0, 10, 0] = np.inf
+    for i, x in enumerate(X):
+        frame = pd.DataFrame({"time": np.arange(len(x)), "PV": x[:, 0], "OP": x[:, 1],
+                              "SP": x[:, 2]})  # fmt: skip
+        frame.to_csv(tmp_path / f"loop{i}.csv", index=False)
+    code = cli.main(["compare", str(tmp_path), "--n-simulated", "10", "--n-samples", "300",
+                     "--figure", str(tmp_path / "gap.png")])  # fmt: skip
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "skipped loop0.csv: infinite values" in out
+    assert "measured: 2 loops" in out
+
+
+def test_manual_mode_rows_are_left_out_of_the_diagnosis(quick, tmp_path, capsys):
+    """MODE 0 rows are no closed loop: the scan judges the automatic stretch and says so."""
+    X, _ = make_loops(1, n_samples=2000, random_state=0)
+    mode = np.where(np.arange(2000) < 800, "MAN", "AUTO")
+    frame = pd.DataFrame({"time": np.arange(2000.0), "PV": X[0, :, 0], "OP": X[0, :, 1],
+                          "SP": X[0, :, 2], "MODE": mode})  # fmt: skip
+    frame.to_csv(tmp_path / "FIC1.csv", index=False)
+    out = tmp_path / "out.csv"
+    assert cli.main(["scan", str(tmp_path / "FIC1.csv"), "-q", "-o", str(out)]) == 0
+    row = pd.read_csv(out).iloc[0]
+    assert "800 rows in manual mode (MODE 0) read as gaps" in row["input_reason"]
+    assert (row["kept_start"], row["kept_stop"]) == (800, 2000)
+    assert row["auto_fraction"] == 0.6 and row["status"] == "ok"

@@ -1,11 +1,13 @@
 """The per-loop plumbing every transformer shares (``features/_loops.py``)."""
 
 import numpy as np
+import pandas as pd
 import pytest
 from sklearn.exceptions import NotFittedError
 
 from sktiction._validation import check_loops
 from sktiction.cycles import analyze_cycles
+from sktiction.datasets import make_loops
 from sktiction.features._loops import (
     LoopAnalysis,
     LoopTransformer,
@@ -160,3 +162,13 @@ def test_tags_allow_nan_padded_three_dimensional_loops():
     tags = _Spread().__sklearn_tags__()
     assert tags.input_tags.allow_nan and tags.input_tags.three_d_array
     assert LoopTransformer()._validate_params() is None
+
+
+def test_a_table_with_channel_columns_is_refused_as_many_loops():
+    """One loop as a DataFrame must not become thousands of 3-sample PV records."""
+    X, _ = make_loops(1, n_samples=300, random_state=0)
+    one = pd.DataFrame(X[0], columns=["PV", "OP", "SP"])
+    with pytest.raises(ValueError, match=r"channel columns \['PV', 'OP', 'SP'\]"):
+        check_loops(one)
+    assert check_loops(one.to_numpy()[None]).shape == (1, 300, 3)  # as the message says
+    assert check_loops(pd.DataFrame(X[:, :, 0])).shape == (1, 300, 3)  # PV rows still fine

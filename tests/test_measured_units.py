@@ -147,9 +147,9 @@ def test_loops_without_op_keep_their_setpoint_and_each_loop_its_mode(tmp_path):
     assert data.meta.loc[0, "reason"] == "no OP column"
     g = _write(tmp_path / "b.csv", "t,FIC1.PV,FIC1.OP,FIC1.MODE,LIC2.PV,LIC2.OP,LIC2.MODE\n"
                "0,1,2,AUTO,3,4,MAN\n1,2,3,AUTO,4,5,AUTO\n")  # fmt: skip
-    wide = read_loop_file(g)
-    np.testing.assert_array_equal(wide.X[:, :, 0], [[1, 2], [3, 4]])
-    np.testing.assert_array_equal(wide.X[:, :, 1], [[2, 3], [4, 5]])
+    wide = read_loop_file(g)  # the second loop's first row is MAN: a gap in X
+    np.testing.assert_array_equal(wide.X[:, :, 0], [[1, 2], [np.nan, 4]])
+    np.testing.assert_array_equal(wide.X[:, :, 1], [[2, 3], [np.nan, 5]])
     assert wide.meta["auto_fraction"].tolist() == [1.0, 0.5]
 
 
@@ -255,11 +255,14 @@ def test_resampling_holds_the_mode_and_strict_only_reports(tmp_path):
     # t = 3 lies a third of the way from t = 2 to t = 3.5: values on the line, MODE held
     assert frame.loc[3, "op"] == pytest.approx(30 + 10 / 1.5)
     assert frame.loc[3, "mode"] == 0.0
-    assert data.meta.loc[0, "reason"].endswith("resampled to 7 rows at 1 s")
+    assert data.meta.loc[0, "reason"].endswith(
+        "resampled to 7 rows at 1 s; 2 rows in manual mode (MODE 0) read as gaps: no loop to "
+        "diagnose there")  # fmt: skip
     strict = read_loop_file(f, strict=True, return_frames=True)
     assert strict.frames[0]["time"].tolist() == [0, 1, 2, 3.5, 4, 5, 6]  # reported only
     assert strict.meta.loc[0, "reason"] == (
-        "irregular sampling: 2 intervals differ from 1 s (min 0.5, max 1.5)"
+        "irregular sampling: 2 intervals differ from 1 s (min 0.5, max 1.5); 1 row in manual "
+        "mode (MODE 0) read as gaps: no loop to diagnose there"
     )
 
 

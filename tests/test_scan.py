@@ -68,11 +68,12 @@ def reference_scan(X, loop_types, learned):
             "shape_confidence": shape["score"].to_numpy(dtype=float),
             "shape_stiction": shape["prediction"].to_numpy(dtype=int),
             "shape_loop_type": shape["loop_type"].to_numpy(),
+            "shape_reason": shape["reason"].to_numpy(dtype=object),
             "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": np.asarray(band, dtype=float),
-            "reason": np.where(ok, shape["reason"].to_numpy(dtype=object), status),
+            "reason": status,  # "ok" where the learned model judged the loop
         }
     )
 
@@ -150,6 +151,10 @@ def test_loops_the_gate_rejects_get_no_verdict_and_its_reason(small_learned, mon
     rejected = report.index.isin([0, 3])  # the first loop of each chunk
     assert report.loc[rejected, "verdict"].eq("no_verdict").all()
     assert report.loc[rejected, "reason"].eq("quantised").all()
+    # no probability beside "no verdict": the gate says the model cannot judge these
+    assert report.loc[rejected, "stiction_probability"].isna().all()
+    assert report.loc[~rejected, "stiction_probability"].notna().all()
+    assert report.loc[~rejected, "reason"].eq("ok").all()
     assert report.loc[rejected, "stiction_size_mean"].isna().all()
     # the others keep the verdicts they get when the gate lets every loop through
     assert ungated["verdict"].ne("no_verdict").all()
@@ -281,3 +286,16 @@ def test_a_band_fit_that_fails_costs_the_size_not_the_verdict(monkeypatch, small
     report = scan_loops(X, classifier=small_learned)
     assert (report["status"] == "ok").all() and (report["verdict"] == "stiction").any()
     assert report["stiction_band_fit"].isna().all()
+
+
+def test_a_loop_with_infinite_values_gets_its_own_status(small_learned, no_gate):
+    """inf is not a gap: that loop gets not_finite, naming the channel; the rest are scanned."""
+    X, _ = make_loops(4, n_samples=1500, random_state=0)
+    clean = scan_loops(X, classifier=small_learned)
+    X[1, 100, 1] = np.inf
+    report = scan_loops(X, classifier=small_learned)
+    assert report.loc[1, "status"] == "not_finite"
+    assert report.loc[1, "reason"] == "not_finite: infinite values in OP"
+    assert report.loc[1, "verdict"] == "no_verdict"
+    others = [0, 2, 3]
+    pd.testing.assert_frame_equal(report.loc[others], clean.loc[others], check_dtype=False)

@@ -104,9 +104,9 @@ def test_each_loop_gets_the_verdict_its_signals_call_for(loops, report):
         ["ok"] * 4 + ["nan_gap", "pv_op_unrelated", "missing_op", "ok"]
     )
     p = spread_probability(X)
-    ok = report["status"].eq("ok").to_numpy()
-    np.testing.assert_allclose(report["stiction_probability"][ok], p[ok], rtol=1e-12)
-    assert report["stiction_probability"][~ok].isna().all()
+    judged = report["verdict"].ne("no_verdict").to_numpy()
+    np.testing.assert_allclose(report["stiction_probability"][judged], p[judged], rtol=1e-12)
+    assert report["stiction_probability"][~judged].isna().all()  # none beside no verdict
     # the rules' columns are the rules' own answers
     ar = AreaRatioClassifier().fit(X).diagnose(X)
     np.testing.assert_array_equal(report["area_ratio"], ar["area_ratio"])
@@ -331,7 +331,7 @@ def pipelines(loops):
 
 def _probability(pipe, X, **kwargs):
     got = scan_loops(X, classifier=pipe, **kwargs)
-    ok = got["status"].eq("ok").to_numpy()
+    ok = got["verdict"].ne("no_verdict").to_numpy()  # no probability beside no verdict
     return got["stiction_probability"].to_numpy(), ok
 
 
@@ -345,7 +345,7 @@ def test_a_pipeline_of_loop_transformers_reads_the_shared_analyses(loops, pipeli
     monkeypatch.setattr(LoopTransformer, "transform", no_transform)
     for name in ("shared", "single", "short"):
         p, ok = _probability(pipelines[name], X, chunk_size=5)
-        assert ok.sum() == 6  # no loop failed in the model's steps
+        assert ok.sum() == 5  # no loop failed in the model's steps (one gated)
         np.testing.assert_allclose(p[ok], expected[name][ok], rtol=1e-9)
         assert len(set(np.round(p[ok], 6))) >= 2  # the features reach the model
     # weights, a step that is not a loop transformer, or pandas output (a later step may
@@ -356,7 +356,7 @@ def test_a_pipeline_of_loop_transformers_reads_the_shared_analyses(loops, pipeli
     monkeypatch.undo()
     for name in ("weighted", "mixed", "named"):
         p, ok = _probability(pipelines[name], X)
-        assert ok.sum() == 6  # all but the gap and the missing OP
+        assert ok.sum() == 5  # all but the gap, the missing OP and the gated one
         np.testing.assert_allclose(p[ok], expected[name][ok], rtol=1e-9)
 
 
@@ -425,6 +425,8 @@ def test_a_loop_that_does_not_cycle_gets_the_shape_librarys_reason():
         op[t] = 0.5 * (integral / 10 - pv[t])
     X = np.stack([pv, op, np.zeros(N)], -1)[None]
     report = scan_loops(X, classifier=Spread())
-    assert report.loc[0, ["status", "n_cycles", "reason"]].tolist() == ["ok", 0, "not_oscillating"]
+    assert report.loc[0, ["status", "n_cycles", "shape_reason"]].tolist() == [
+        "ok", 0, "not_oscillating"]  # fmt: skip
+    assert report.loc[0, "reason"] == "ok"  # the verdict's reason: the model judged it
     p = spread_probability(X)[0]  # judged all the same, by the model
     assert report.loc[0, "verdict"] == ("stiction" if p >= 0.5 else "no_stiction")

@@ -152,6 +152,11 @@ def run_compare(args, out=None):
     ok = (data.meta["status"] == "ok").to_numpy()
     for _, row in data.meta[~ok].iterrows():
         print(f"skipped {row['file']}: {row['reason']}", file=out)
+    # a loop with inf has no statistics (a reader keeps such values; they are not gaps)
+    infinite = ok & np.isinf(data.X).any(axis=(1, 2))
+    for name in data.meta.loc[infinite, "file"]:
+        print(f"skipped {name}: infinite values", file=out)
+    ok = ok & ~infinite
     if ok.sum() < 2:
         print("sktiction compare: error: fewer than 2 readable loops.", file=sys.stderr)
         return EXIT_USAGE

@@ -32,6 +32,7 @@ REPORT_COLUMNS = [
     "shape_confidence",
     "shape_stiction",
     "shape_loop_type",
+    "shape_reason",
     "n_cycles",
     "stiction_size_mean",
     "stiction_size_max",
@@ -182,7 +183,9 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
     shape = pd.concat(parts).sort_index()
     proba = np.full(len(loops), np.nan)
     ok = status == STATUS_OK
-    reason = np.where(ok, shape["reason"].to_numpy(dtype=object), status)
+    # reason explains the verdict: "ok" where the learned model judged the loop; the shape
+    # library's own reason (e.g. not_oscillating beside a learned stiction) is shape_reason
+    reason = status.astype(object)
     if ok.any():  # the learned model reads OP too: only loops that can be analysed
         idx = np.flatnonzero(ok)
         p, abstain = learned.predict(loops[idx], [analyses[i] for i in idx], status[idx])
@@ -197,6 +200,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
         out = ~verdict["applicable"].to_numpy(dtype=bool)
         reason[idx[out]] = verdict["reason"].to_numpy(dtype=object)[out]
         ok[idx[out]] = False
+        proba[idx[out]] = np.nan  # the gate says the model cannot be trusted on these
     sticky = ok & (proba >= STICTION_THRESHOLD)
     # a size is only meaningful for a valve that is called sticky
     size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
@@ -213,6 +217,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
             "shape_confidence": shape["score"].to_numpy(dtype=float),
             "shape_stiction": shape["prediction"].to_numpy(dtype=int),
             "shape_loop_type": shape["loop_type"].to_numpy(),
+            "shape_reason": shape["reason"].to_numpy(dtype=object),
             "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
@@ -235,10 +240,20 @@ def _fitted_bands(analyses, sticky):
     return band
 
 
-def _error_row(exc):
+#: Status of a loop holding inf (NaN is a gap; inf is a broken value no analysis can use).
+STATUS_NOT_FINITE = "not_finite"
+
+
+def _error_row(exc, loop=None):
     row = pd.DataFrame([dict.fromkeys(REPORT_COLUMNS, np.nan)])
-    row["status"] = "error"
     row["verdict"] = NO_VERDICT
+    if loop is not None and np.isinf(np.asarray(loop, dtype=float)).any():
+        bad = [c for c, x in zip(("PV", "OP", "SP"), np.moveaxis(np.asarray(loop), -1, 0))
+               if np.isinf(x).any()]  # fmt: skip
+        row["status"] = STATUS_NOT_FINITE
+        row["reason"] = f"{STATUS_NOT_FINITE}: infinite values in {', '.join(bad)}"
+        return row
+    row["status"] = "error"
     row["reason"] = f"{type(exc).__name__}: {exc}"
     return row
 
@@ -256,7 +271,7 @@ def _scan_safely(loops, loop_types, learned, rules=None, ts=None, gate=None):
                 one = check_loops(loops[i : i + 1])
                 rows.append(_scan_chunk(one, loop_types[i : i + 1], learned, rules, one_ts, gate))
             except Exception as exc:  # noqa: BLE001 - becomes that loop's status
-                rows.append(_error_row(exc))
+                rows.append(_error_row(exc, loops[i]))
         return pd.concat(rows, ignore_index=True)
 
 
@@ -386,11 +401,14 @@ def scan_loops(
     verdict is stiction), so a valve that slips without oscillating is sized too. It
     reads low: median 0.78 of the true band in ``make_loops``' classic world, 0.68 in
     its default world (``examples/stiction_size.py``). Each loop's signals are
-    analysed once and the analysis shared by the three. Loops that cannot be analysed
-    get ``status`` and ``reason`` and ``verdict = "no_verdict"``; so do loops the
-    applicability check
+    analysed once and the analysis shared by the three. ``reason`` explains the
+    verdict: ``"ok"`` where the learned classifier judged the loop; loops that cannot
+    be analysed get ``status`` and ``reason`` and ``verdict = "no_verdict"``; so do
+    loops the learned classifier cannot judge and loops the applicability check
     (:func:`~sktiction.classifiers.applicability.assess_applicability`) rejects, with
-    its reason.
+    its reason (and no ``stiction_probability`` after the check's rejection).
+    ``shape_reason`` is the shape library's own (e.g. ``not_oscillating``: no size from
+    it).
 
     Parameters
     ----------
