@@ -263,3 +263,16 @@ def test_the_stream_reads_what_read_loop_file_reads(ts):
     pd.testing.assert_frame_equal(_stream._meta(rows), pd.concat(metas, ignore_index=True))
     with pytest.raises(ValueError, match="ts must be"):
         _stream.read_loop_rows(str(paths[0]), None, -1.0)
+
+
+def test_a_file_with_an_infinite_value_is_read_and_its_loop_says_not_finite(site, tmp_path):
+    """inf is no gap for repair_gaps: the file is read, its loop gets not_finite."""
+    good = sorted(p for p in site.iterdir() if p.suffix == ".csv")[:2]
+    frame = pd.read_csv(good[0])
+    frame.loc[20, frame.columns[1]] = np.inf
+    bad = tmp_path / "INF001.csv"
+    frame.to_csv(bad, index=False)
+    report = scan_files([bad, good[1]], classifier=Spread(), ts=1.0)
+    assert report["input_status"].tolist() == ["ok", "ok"]
+    assert report["status"].tolist() == ["not_finite", "ok"]
+    assert report.loc[0, "reason"].startswith("not_finite: infinite values in")

@@ -291,3 +291,36 @@ def test_numeric_columns_of_any_numpy_dtype_and_all_missing():
     np.testing.assert_array_equal(t, [0.0, np.nan, 2.0, np.inf])
     with pytest.raises(TimeError, match="time column is empty"):
         parse_times(pd.Series([np.nan, np.nan]))
+
+
+def test_offsets_that_change_after_the_sample_are_read_in_utc():
+    """A daylight-saving change far into the file: every row read, in UTC, evenly spaced."""
+    stamps = pd.date_range("2024-03-31 00:00", periods=2000, freq="10s", tz="Europe/Berlin")
+    raw = pd.Series(stamps.map(lambda s: s.isoformat()))
+    assert raw.iloc[0].endswith("+01:00") and raw.iloc[-1].endswith("+02:00")
+    t, start, notes = parse_times(raw)
+    np.testing.assert_array_equal(t, 10.0 * np.arange(2000))
+    assert str(start) == "2024-03-30 23:00:00" and "time zone offsets converted to UTC" in notes
+
+
+def test_local_time_set_back_an_hour_keeps_every_row_in_order():
+    """Autumn's repeated hour in local time without offset: shifted, not sorted and cut."""
+    t = 10.0 * np.arange(1000)
+    local = np.where(np.arange(1000) < 400, t, t - 3600)  # clock back at row 400
+    values = np.arange(1000.0)[:, None]
+    grid, v, step, notes = regularise(local, values)
+    np.testing.assert_array_equal(grid, t)
+    np.testing.assert_array_equal(v[:, 0], values[:, 0])
+    assert step == 10.0 and notes[0].startswith("clock set back an hour at data row 401")
+    # any other step back is still sorted, with its note
+    other = np.where(np.arange(1000) < 400, t, t - 1800)
+    assert regularise(other, values)[3][0].startswith("rows not in time order")
+
+
+def test_day_first_note_only_when_the_whole_column_allows_both_orders():
+    late = pd.Series(pd.date_range("2024-01-01", periods=2000, freq="10min")
+                     .strftime("%d/%m/%Y %H:%M"))  # fmt: skip
+    assert parse_times(late)[2] == []  # 13/01 settles it, though the sample does not
+    early = pd.Series(pd.date_range("2024-01-01", periods=100, freq="10min")
+                      .strftime("%d/%m/%Y %H:%M"))  # fmt: skip
+    assert parse_times(early)[2] == ["dates could be day/month or month/day: read day first"]

@@ -113,6 +113,20 @@ def _parse_all(raw, fmt, clean):
     )  # fmt: skip
 
 
+def _parse_offsets(raw, fmt, clean):
+    """:func:`_parse_all`, in UTC when the UTC offset changes inside the column (a
+    daylight-saving change after the sample that chose the format)."""
+    if fmt != "ISO8601":
+        return _parse_all(raw, fmt, clean)
+    try:
+        stamps = _parse_all(raw, fmt, clean)
+    except ValueError:  # pandas: "Mixed timezones detected"
+        return _parse_all(raw, "ISO8601-utc", clean)
+    if stamps.dtype == object:  # chunks with different fixed offsets
+        return _parse_all(raw, "ISO8601-utc", clean)
+    return stamps
+
+
 def _text_times(raw, time_format):
     """Parse text (or datetime objects) to datetimes; return (stamps, notes)."""
     strings = isinstance(raw.dtype, pd.StringDtype) or raw.map(_is_text).all()
@@ -146,7 +160,7 @@ def _text_times(raw, time_format):
             )
         fmt = candidates[best]
     notes = []
-    stamps = _parse_all(raw, fmt, clean)
+    stamps = _parse_offsets(raw, fmt, clean)
     if "%d/%m" in fmt:
         # The sample may hold only days <= 12: the whole column settles the order, also
         # against a declared pattern that the data contradict. Where the data allow both
@@ -162,8 +176,11 @@ def _text_times(raw, time_format):
                         "read month first"
                     )
                 stamps, fmt = swapped, other
-        elif _fits(sample, other) and fmt != time_format:
-            notes.append("dates could be day/month or month/day: read day first")
+        elif fmt != time_format and _fits(sample, other):
+            # the sample allows both orders; the whole column may not (a 13th day)
+            swapped = _parse_all(raw, other, clean)
+            if swapped.isna().sum() == stamps.isna().sum():
+                notes.append("dates could be day/month or month/day: read day first")
     if getattr(stamps.dt, "tz", None) is not None:
         stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
         notes.append("time zone offsets converted to UTC")
@@ -254,6 +271,24 @@ default="auto"
     return t, pd.Timestamp(first, unit="ns"), notes
 
 
+def _clock_back(t, dt, notes):
+    """Local time without a UTC offset repeats an hour when daylight saving time ends:
+    one step back of an hour less a sample. Sorting would interleave the two hours and
+    drop every duplicated time; shifting the rows after the step by an hour keeps them
+    in order."""
+    back = np.flatnonzero(dt < 0)
+    if back.size != 1 or len(dt) < 3:
+        return t, dt
+    step = float(np.median(dt[dt > 0])) if (dt > 0).any() else 0.0
+    if not (0 < step < 900 and abs(dt[back[0]] + 3600 - step) <= 0.5 * step):
+        return t, dt
+    i = int(back[0]) + 1
+    t = np.concatenate([t[:i], t[i:] + 3600.0])
+    notes.append(f"clock set back an hour at data row {i + 1} (daylight saving time ending, "
+                 "local time without offset?): later rows read an hour later")  # fmt: skip
+    return t, np.diff(t)
+
+
 def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.0):
     """Sort, de-duplicate and resample samples onto a regular time grid.
 
@@ -298,6 +333,7 @@ def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.
     notes = []
     values = np.asarray(values, dtype=float).reshape(len(t), -1)
     dt = np.diff(t)
+    t, dt = _clock_back(t, dt, notes)
     if (dt < 0).any():
         order = np.argsort(t, kind="stable")  # stable: file order decides among duplicates
         notes.append(f"rows not in time order ({count(int((dt < 0).sum()), 'step')} back): sorted")

@@ -85,8 +85,10 @@ def _read(path, channels, ts, max_gap):
     """One file's loops and meta rows, short gaps bridged (``repair_gaps``) when asked."""
     X, rows, _ = read_loop_rows(path, channels, ts)
     readable = np.array([r["status"] == STATUS_OK for r in rows]) & (X.shape[1] > 0)
-    if max_gap is not None and readable.any():
-        idx = np.flatnonzero(readable)
+    # a loop holding inf is not repaired (inf is no gap): the scan gives it not_finite
+    finite = ~np.isinf(X).any(axis=(1, 2)) if X.size else np.ones(len(X), dtype=bool)
+    if max_gap is not None and (readable & finite).any():
+        idx = np.flatnonzero(readable & finite)
         lengths = _gap_free(X[idx])
         if lengths is not None:  # most files: what repair_gaps would say, without its work
             info = {"n_bridged": 0, "n_gaps_split": 0, "kept_start": 0, "kept_stop": lengths}
@@ -111,7 +113,7 @@ def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
         if not pending:
             return
         meta = _meta(pending_rows)
-        loops = check_loops(_pad(pending))
+        loops = _pad(pending)  # checked by _scan_safely, which isolates a loop that fails
         report = _scan_safely(
             loops, loop_types_of(meta, len(meta)), learned, rules, sampling_times(meta), gate
         )
