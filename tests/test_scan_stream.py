@@ -276,3 +276,16 @@ def test_a_file_with_an_infinite_value_is_read_and_its_loop_says_not_finite(site
     assert report["input_status"].tolist() == ["ok", "ok"]
     assert report["status"].tolist() == ["not_finite", "ok"]
     assert report.loc[0, "reason"].startswith("not_finite: infinite values in")
+
+
+def test_report_columns_do_not_depend_on_which_file_comes_first(site, tmp_path):
+    """An unreadable file's rows have fewer meta columns: the order must not follow them."""
+    good = sorted(p for p in site.iterdir() if p.suffix == ".csv")[0]
+    bad = tmp_path / "AAA.csv"
+    bad.write_text("foo,bar\n1,2\n")
+    first = scan_files([bad, good], classifier=Spread(), ts=1.0)
+    last = scan_files([good, bad], classifier=Spread(), ts=1.0)
+    assert list(first.columns) == list(last.columns)
+    assert list(first.columns[:4]) == ["file", "path", "format", "tag"]
+    pd.testing.assert_frame_equal(first.iloc[[1, 0]].reset_index(drop=True), last,
+                                  check_dtype=False)  # fmt: skip

@@ -21,7 +21,7 @@ from .._validation import (
 )
 from ..classifiers import pretrained_classifier
 from ..datasets import list_loop_files
-from ..datasets._measured import _meta_frame, read_loop_rows
+from ..datasets._measured import _META_COLUMNS, _meta_frame, read_loop_rows
 from .scan import (
     NO_VERDICT,
     REPORT_COLUMNS,
@@ -268,7 +268,15 @@ def scan_files(
             bar=bar,
             sizes=[len(g) for g in groups],
         )
-    return pd.concat(parts, ignore_index=True)
+    return _in_column_order(pd.concat(parts, ignore_index=True))
+
+
+def _in_column_order(report):
+    """The report's columns in one order, whichever kind of file came first (an
+    unreadable file's rows have fewer meta columns, and concat keeps first-seen order)."""
+    meta = [f"input_{c}" if c in REPORT_COLUMNS else c for c in _META_COLUMNS]
+    order = [c for c in (*meta, *_GAP_COLUMNS, *REPORT_COLUMNS) if c in report]
+    return report[order + [c for c in report if c not in order]]
 
 
 def _scan_unit(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
