@@ -81,10 +81,16 @@ def _parse_channels(text):
     return out
 
 
+_COMPRESSION = (".gz", ".bz2", ".zip", ".xz", ".zst")  # pandas infers these from the name
+
+
 def _output_format(args):
     fmt = args.format
     if fmt is None and args.output:
-        suffix = Path(args.output).suffix.lower().lstrip(".")
+        name = Path(args.output)
+        if name.suffix.lower() in _COMPRESSION:  # report.csv.gz: the format is csv
+            name = name.with_suffix("")
+        suffix = name.suffix.lower().lstrip(".")
         if suffix and suffix not in FORMATS:
             # writing CSV text into report.xlsx would give a file its program cannot open
             raise UsageError(f"-o {args.output}: no writer for .{suffix} files; use a "
@@ -108,8 +114,8 @@ def _check_writable(*paths):
     for path in paths:
         if not path:
             continue
-        folder = Path(path).expanduser().resolve().parent
-        if Path(path).is_dir():
+        folder = Path(path).resolve().parent
+        if Path(path).is_dir() or str(path).endswith(("/", os.sep)):
             raise UsageError(f"{path} is a folder; give a file name to write to.")
         if not folder.is_dir():
             raise UsageError(f"cannot write {path}: no folder {folder}.")
@@ -149,6 +155,22 @@ def _read_status(report):
         unreadable = report["status"].astype(str).eq("unreadable")
         read = read.where(~(unreadable & read.isin(["", "ok"])), "unreadable")
     return read.where(read != "", "ok")
+
+
+_DOCUMENTS = (".md", ".rst", ".pdf", ".doc", ".docx", ".html", ".htm", ".png", ".jpg",
+              ".jpeg", ".svg", ".json", ".yaml", ".yml", ".toml", ".ini", ".py", ".log")
+
+
+def _not_loop_files(report, table):
+    """Rows of files that are not loop data: unsupported, and a folder index, a file
+    without an extension or a document by its suffix."""
+    if "path" not in report:
+        return pd.Series(False, index=table.index)
+    names = report["path"].fillna("").astype(str).map(lambda p: Path(p).name)
+    suffix = names.map(lambda n: Path(n).suffix.lower())
+    index = names.str.lower().isin(["index.csv", "index.txt"])
+    plain = (suffix == "") | suffix.isin(_DOCUMENTS) | index
+    return (table["read"] == "unsupported") & plain
 
 
 def _console_table(report):
@@ -274,8 +296,15 @@ class _FileLoops:
         return one[0]
 
 
+def _expand(path):
+    """``~`` expanded once, so that the check and the writing see the same file (a shell
+    leaves ``--report=~/r.html`` as it is)."""
+    return os.path.expanduser(path) if path else path
+
+
 def _scan(args):
     channels = _parse_channels(args.channels)
+    args.output, args.report = _expand(args.output), _expand(args.report)
     fmt = _output_format(args)
     _check_writable(args.output, args.report)
     missing = [p for p in args.paths if not Path(p).exists()]
@@ -324,12 +353,15 @@ def _scan(args):
     table = _console_table(report)
     _print_table(table if args.top is None else _top(table, args.top))
     print("\n" + _verdict_counts(report), file=sys.stderr)
-    # a README or a folder index beside the loop files is listed, not a failure
-    other = int((table["read"] == "unsupported").sum())
-    if other:
-        print(f"{other} file{'s are' if other > 1 else ' is'} not loop files (read "
-              "'unsupported', listed with the reason).", file=sys.stderr)
-    failed = int((~table["read"].isin(["ok", "unsupported"])).sum())
+    # a README or a folder index beside the loop files is listed, not a failure; an .xls
+    # or .dat file may hold a loop the scan could not read: that is one
+    other = _not_loop_files(report, table)
+    if other.any():
+        n = int(other.sum())
+        print(f"{n} {'files are' if n > 1 else 'file is'} not loop data (a folder index, "
+              "documents or files without an extension; listed with the reason).",
+              file=sys.stderr)  # fmt: skip
+    failed = int(((table["read"] != "ok") & ~other).sum())
     if failed:
         print(f"\n{failed} of {len(table)} files or loops could not be read (see 'read' and "
               f"'reason'); exit code {EXIT_READ_FAILURES}.", file=sys.stderr)
@@ -338,6 +370,7 @@ def _scan(args):
 
 
 def _demo(args):
+    args.report = _expand(args.report)
     _check_writable(args.report)
     from .datasets import load_example
     from .reports import scan_loops

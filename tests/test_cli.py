@@ -79,6 +79,7 @@ def test_bad_channels_is_a_usage_error(no_training, folder, capsys):
         (["-o", "{tmp}/no_such_folder/x.csv"], "no folder"),
         (["--report", "{tmp}/no_such_folder/r.html"], "no folder"),
         (["-o", "{tmp}"], "is a folder"),
+        (["-o", "{tmp}/no_such_folder/"], "is a folder"),
         (["-o", "{tmp}/report.xlsx"], "no writer for .xlsx"),
         (["-j", "0"], "must not be 0"),
         (["--ts", "0"], "positive number of seconds"),
@@ -103,6 +104,19 @@ def test_files_that_are_not_loops_are_listed_not_failures(quick, folder, tmp_pat
     assert "LICENSE" in captured.out and "unsupported" in captured.out
     assert "verdicts of 2 loops" in captured.err and "1 file is not" in captured.err
     assert pd.read_csv(out)["file"].tolist().count("LICENSE") == 1
+    # an .xls export may hold a loop the scan could not read: a failure, exit 1
+    (folder / "FIC9.xls").write_bytes(b"\xd0\xcf\x11\xe0")
+    assert cli.main(["scan", str(folder), "-q"]) == 1
+
+
+def test_outputs_with_home_and_compression_are_written(quick, folder, tmp_path, monkeypatch):
+    (folder / "broken.csv").unlink()
+    home = tmp_path / "home"
+    home.mkdir()
+    monkeypatch.setenv("HOME", str(home))
+    args = ["scan", str(folder), "-q", "-o", "~/out.csv.gz", "--report=~/r.html"]
+    assert cli.main(args) == 0
+    assert len(pd.read_csv(home / "out.csv.gz")) == 2 and (home / "r.html").exists()
 
 
 def test_some_files_fail_exit_1_and_the_table_says_why(quick, folder, tmp_path, capsys):

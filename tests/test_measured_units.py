@@ -406,3 +406,13 @@ def test_each_loop_of_a_wide_file_holds_its_own_mode_when_resampled(tmp_path):
     frames = read_loop_file(f, return_frames=True).frames
     assert [fr.loc[3, "mode"] for fr in frames] == [0.0, 0.0]
     assert [fr.loc[3, "op"] for fr in frames] == pytest.approx([30 + 10 / 1.5] * 2)
+
+
+def test_manual_rows_become_gaps_only_where_mode_is_zero_or_one(tmp_path):
+    """0 means manual only in a 0/1 (or text) column; other DCS codes leave the data alone."""
+    body = "t,PV,OP,MODE\n" + "".join(f"{i},{i},{i},{m}\n" for i, m in enumerate([1, 1, 0, 1]))
+    binary = read_loop_file(_write(tmp_path / "a.csv", body))
+    np.testing.assert_array_equal(binary.X[0, :, 0], [0, 1, np.nan, 3])
+    coded = read_loop_file(_write(tmp_path / "b.csv", body.replace("\n1,1,1,1", "\n1,1,1,2")))
+    np.testing.assert_array_equal(coded.X[0, :, 0], [0, 1, 2, 3])
+    assert "manual" not in coded.meta.loc[0, "reason"]

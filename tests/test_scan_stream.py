@@ -272,10 +272,13 @@ def test_a_file_with_an_infinite_value_is_read_and_its_loop_says_not_finite(site
     frame.loc[20, frame.columns[1]] = np.inf
     bad = tmp_path / "INF001.csv"
     frame.to_csv(bad, index=False)
-    report = scan_files([bad, good[1]], classifier=Spread(), ts=1.0)
-    assert report["input_status"].tolist() == ["ok", "ok"]
-    assert report["status"].tolist() == ["not_finite", "ok"]
-    assert report.loc[0, "reason"].startswith("not_finite: infinite values in")
+    for files in ([bad, good[1]], [good[1], bad]):  # in one chunk, either order
+        report = scan_files(files, classifier=Spread(), ts=1.0)
+        report = report.set_index("file").loc[[bad.name, good[1].name]]
+        assert report["input_status"].tolist() == ["ok", "ok"]
+        assert report["status"].tolist() == ["not_finite", "ok"]
+        assert report["reason"].iloc[0].startswith("not_finite: infinite values in")
+        assert report["kept_stop"].tolist()[1] > 0 and np.isnan(report["kept_stop"].iloc[0])
 
 
 def test_report_columns_do_not_depend_on_which_file_comes_first(site, tmp_path):

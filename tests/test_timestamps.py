@@ -303,18 +303,37 @@ def test_offsets_that_change_after_the_sample_are_read_in_utc():
     assert str(start) == "2024-03-30 23:00:00" and "time zone offsets converted to UTC" in notes
 
 
+def _local(start, n, back_at, back=3600):
+    """Naive local stamps every 10 s that step back ``back`` s at row ``back_at``."""
+    t = 10.0 * np.arange(n) - back * (np.arange(n) >= back_at)
+    return pd.Series((pd.Timestamp(start) + pd.to_timedelta(t, unit="s"))
+                     .strftime("%Y-%m-%d %H:%M:%S"))  # fmt: skip
+
+
 def test_local_time_set_back_an_hour_keeps_every_row_in_order():
-    """Autumn's repeated hour in local time without offset: shifted, not sorted and cut."""
-    t = 10.0 * np.arange(1000)
-    local = np.where(np.arange(1000) < 400, t, t - 3600)  # clock back at row 400
-    values = np.arange(1000.0)[:, None]
-    grid, v, step, notes = regularise(local, values)
-    np.testing.assert_array_equal(grid, t)
-    np.testing.assert_array_equal(v[:, 0], values[:, 0])
-    assert step == 10.0 and notes[0].startswith("clock set back an hour at data row 401")
-    # any other step back is still sorted, with its note
-    other = np.where(np.arange(1000) < 400, t, t - 1800)
-    assert regularise(other, values)[3][0].startswith("rows not in time order")
+    """Autumn's repeated hour in naive local time: later rows shifted, not sorted and cut."""
+    raw = _local("2024-10-27 02:00:00", 1000, 360)  # 02:59:50, then 02:00:00 again
+    t, _, notes = parse_times(raw)
+    np.testing.assert_array_equal(t, 10.0 * np.arange(1000))
+    assert notes == ["clock set back an hour at 2024-10-27 02:00:00 (daylight saving time "
+                     "ending, local time without offset): later rows read an hour later"]
+
+
+@pytest.mark.parametrize("start, back", [
+    ("2024-06-15 02:00:00", 3600),  # two exports overlapping by an hour in June
+    ("2024-10-27 12:00:00", 3600),  # at noon: no clock change
+    ("2024-10-27 02:00:00", 1800),  # not an hour
+])  # fmt: skip
+def test_other_steps_back_are_sorted_as_before(start, back):
+    t, _, notes = parse_times(_local(start, 1000, 360, back))
+    assert np.all(np.diff(t)[:359] == 10.0) and not any("clock" in n for n in notes)
+    assert (np.diff(t) < 0).sum() == 1  # left to regularise, which sorts and notes it
+
+
+def test_stamps_with_and_without_offset_are_refused():
+    raw = pd.Series(["2024-03-31T00:00:00", "2024-03-31T00:00:10+01:00"] * 150)
+    with pytest.raises(TimeError, match="some timestamps carry a UTC offset"):
+        parse_times(raw)
 
 
 def test_day_first_note_only_when_the_whole_column_allows_both_orders():

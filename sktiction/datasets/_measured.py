@@ -370,7 +370,10 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
         missing = np.isnan(pv) | (np.isnan(op) if "op" in g else False)
         isa, loop_type = _loop_type(tag)
         mode = modes[:, j] if modes is not None else np.full(m, np.nan)
-        manual = mode == 0  # MODE 0 / MAN: the controller was not closing the loop
+        # MODE 0 / MAN: the controller was not closing the loop. Only where the column is
+        # 0/1 (or text): other numeric codes are the DCS's own, and 0 may mean anything
+        codes = np.unique(mode[np.isfinite(mode)])
+        manual = (mode == 0) if np.isin(codes, (0.0, 1.0)).all() else np.zeros(m, bool)
         if status == STATUS_OK and manual.any():
             reason.append(f"{count(int(manual.sum()), 'row')} in manual mode (MODE 0) read "
                           "as gaps: no loop to diagnose there")  # fmt: skip
@@ -498,7 +501,8 @@ default="auto"
             level, pressure, temperature or unknown, from the ISA letters of the tag),
             ``ts`` (s), ``n_samples``, ``n_nan`` (rows with PV, or OP when present,
             missing), ``auto_fraction`` (share of rows with MODE == 1, NaN without MODE;
-            rows with MODE == 0, manual, are NaN in ``X``: gaps, noted in ``reason``),
+            manual rows, MAN or 0 in a column of 0/1, are NaN in ``X``: gaps, noted in
+            ``reason``; other numeric codes leave ``X`` as it is),
             ``start`` (first timestamp or NaT), ``status`` (``ok``, ``error`` or
             ``unsupported``), ``reason`` (the error, or notes separated by ``"; "``: rows
             sorted, duplicated timestamps kept the first, resampled to the median step,

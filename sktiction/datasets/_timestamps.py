@@ -35,6 +35,7 @@ _TEXT_FORMATS = (
 )  # fmt: skip
 _TIME_OF_DAY = r"\d{1,2}:\d{2}(:\d{2}([.,]\d+)?)?"
 _SAMPLE = 200  # values used to choose a text format before parsing the whole column
+_OFFSET = r"(?:Z|[+-]\d\d:?\d\d)$"  # an ISO 8601 UTC offset at the end of a stamp
 
 
 def count(n, noun):
@@ -116,14 +117,46 @@ def _parse_all(raw, fmt, clean):
 def _parse_offsets(raw, fmt, clean):
     """:func:`_parse_all`, in UTC when the UTC offset changes inside the column (a
     daylight-saving change after the sample that chose the format)."""
-    if fmt != "ISO8601":
+    if fmt == "ISO8601":
+        try:
+            stamps = _parse_all(raw, fmt, clean)
+            if stamps.dtype != object:
+                return stamps
+        except ValueError:  # pandas: "Mixed timezones detected"
+            pass
+    elif fmt != "ISO8601-utc":
         return _parse_all(raw, fmt, clean)
-    try:
-        stamps = _parse_all(raw, fmt, clean)
-    except ValueError:  # pandas: "Mixed timezones detected"
-        return _parse_all(raw, "ISO8601-utc", clean)
-    if stamps.dtype == object:  # chunks with different fixed offsets
-        return _parse_all(raw, "ISO8601-utc", clean)
+    # chunks with different offsets: UTC, if every stamp says its offset (one without is
+    # local time of an unknown zone, and reading it as UTC would shift it silently)
+    text = clean(raw.dropna()).astype(str)
+    if not text.str.contains(_OFFSET).all():
+        raise TimeError("some timestamps carry a UTC offset and some do not; export them "
+                        "all in one form")  # fmt: skip
+    return _parse_all(raw, "ISO8601-utc", clean)
+
+
+def _clock_back(stamps, notes):
+    """Naive local time repeats an hour when daylight saving time ends: one step back of
+    an hour less a sample, in the small hours of a March, April, October or November
+    night. Sorting would interleave the two hours and drop every repeated stamp; the rows
+    after the step are read an hour later instead. Anything else stepping back (an
+    overlapping export, a restart) is left to the sort."""
+    ok = stamps.notna().to_numpy()
+    ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)[ok]
+    dt = np.diff(ns) / 1e9
+    back = np.flatnonzero(dt < 0)
+    if back.size != 1 or dt.size < 3:
+        return stamps
+    step = float(np.median(dt[dt > 0])) if (dt > 0).any() else 0.0
+    at = pd.Timestamp(int(ns[back[0] + 1]))
+    if not (0 < step < 900 and abs(dt[back[0]] + 3600 - step) <= 0.5 * step
+            and at.month in (3, 4, 10, 11) and at.hour < 4):  # fmt: skip
+        return stamps
+    i = np.flatnonzero(ok)[back[0] + 1]
+    later = np.arange(len(stamps)) >= i
+    stamps = stamps.where(~later, stamps + pd.Timedelta(hours=1))
+    notes.append(f"clock set back an hour at {at} (daylight saving time ending, local time "
+                 "without offset): later rows read an hour later")  # fmt: skip
     return stamps
 
 
@@ -184,6 +217,8 @@ def _text_times(raw, time_format):
     if getattr(stamps.dt, "tz", None) is not None:
         stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
         notes.append("time zone offsets converted to UTC")
+    elif not time_only:
+        stamps = _clock_back(stamps, notes)
     if time_only:
         # Time of day only: a step back of more than 12 h is midnight passing.
         ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)
@@ -271,24 +306,6 @@ default="auto"
     return t, pd.Timestamp(first, unit="ns"), notes
 
 
-def _clock_back(t, dt, notes):
-    """Local time without a UTC offset repeats an hour when daylight saving time ends:
-    one step back of an hour less a sample. Sorting would interleave the two hours and
-    drop every duplicated time; shifting the rows after the step by an hour keeps them
-    in order."""
-    back = np.flatnonzero(dt < 0)
-    if back.size != 1 or len(dt) < 3:
-        return t, dt
-    step = float(np.median(dt[dt > 0])) if (dt > 0).any() else 0.0
-    if not (0 < step < 900 and abs(dt[back[0]] + 3600 - step) <= 0.5 * step):
-        return t, dt
-    i = int(back[0]) + 1
-    t = np.concatenate([t[:i], t[i:] + 3600.0])
-    notes.append(f"clock set back an hour at data row {i + 1} (daylight saving time ending, "
-                 "local time without offset?): later rows read an hour later")  # fmt: skip
-    return t, np.diff(t)
-
-
 def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.0):
     """Sort, de-duplicate and resample samples onto a regular time grid.
 
@@ -333,7 +350,6 @@ def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.
     notes = []
     values = np.asarray(values, dtype=float).reshape(len(t), -1)
     dt = np.diff(t)
-    t, dt = _clock_back(t, dt, notes)
     if (dt < 0).any():
         order = np.argsort(t, kind="stable")  # stable: file order decides among duplicates
         notes.append(f"rows not in time order ({count(int((dt < 0).sum()), 'step')} back): sorted")

@@ -75,8 +75,8 @@ def _meta(rows):
     """Meta DataFrame of some files' loops (as read_loop_file's meta, concatenated), with
     the gap-repair columns when the rows hold them."""
     meta = _meta_frame(rows)
-    if rows and _GAP_COLUMNS[0] in rows[0]:
-        gaps = {c: np.array([r[c] for r in rows], dtype=float) for c in _GAP_COLUMNS}
+    if any(_GAP_COLUMNS[0] in r for r in rows):
+        gaps = {c: np.array([r.get(c, np.nan) for r in rows], dtype=float) for c in _GAP_COLUMNS}
         meta = pd.concat([meta, pd.DataFrame(gaps)], axis=1)
     return meta
 
@@ -87,6 +87,9 @@ def _read(path, channels, ts, max_gap):
     readable = np.array([r["status"] == STATUS_OK for r in rows]) & (X.shape[1] > 0)
     # a loop holding inf is not repaired (inf is no gap): the scan gives it not_finite
     finite = ~np.isinf(X).any(axis=(1, 2)) if X.size else np.ones(len(X), dtype=bool)
+    if max_gap is not None:
+        for row in rows:  # every row has the columns, NaN where nothing was repaired
+            row.update(dict.fromkeys(_GAP_COLUMNS, np.nan))
     if max_gap is not None and (readable & finite).any():
         idx = np.flatnonzero(readable & finite)
         lengths = _gap_free(X[idx])

@@ -193,6 +193,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
         judged = np.array([a is None for a in abstain])
         reason[idx[~judged]] = abstain[~judged]
         ok[idx[~judged]] = False
+        proba[idx[~judged]] = np.nan  # no probability beside "no verdict"
     if gate is not None and ok.any():
         idx = np.flatnonzero(ok)
         sub_ts = None if ts is None else np.asarray(ts, dtype=float)[idx]
@@ -260,6 +261,18 @@ def _error_row(exc, loop=None):
 
 def _scan_safely(loops, loop_types, learned, rules=None, ts=None, gate=None):
     """One chunk; if it fails, loop by loop, so one bad loop never aborts a scan."""
+    infinite = np.isinf(np.asarray(loops, dtype=float)).any(axis=(1, 2))
+    if infinite.any() and not infinite.all():
+        # the others as one chunk: loop by loop costs a chunk about four times as much
+        good = np.flatnonzero(~infinite)
+        part = _scan_safely(np.asarray(loops)[good], loop_types[good], learned, rules,
+                            None if ts is None else np.asarray(ts)[good], gate)  # fmt: skip
+        rows = [None] * len(loops)
+        for k, i in enumerate(good):
+            rows[i] = part.iloc[[k]]
+        for i in np.flatnonzero(infinite):
+            rows[i] = _error_row(None, loops[i])
+        return pd.concat(rows, ignore_index=True)
     try:
         loops = check_loops(loops)
         return _scan_chunk(loops, loop_types, learned, rules, ts, gate)
@@ -406,7 +419,7 @@ def scan_loops(
     be analysed get ``status`` and ``reason`` and ``verdict = "no_verdict"``; so do
     loops the learned classifier cannot judge and loops the applicability check
     (:func:`~sktiction.classifiers.applicability.assess_applicability`) rejects, with
-    its reason (and no ``stiction_probability`` after the check's rejection).
+    its reason (and then no ``stiction_probability``).
     ``shape_reason`` is the shape library's own (e.g. ``not_oscillating``: no size from
     it).
 
@@ -463,7 +476,7 @@ def scan_loops(
     loop_types = loop_types_of(meta, n)
     ts = sampling_times(meta)
     learned = LearnedAdapter(classifier if classifier is not None else pretrained_classifier())
-    rules = _Rules(check_loops(batch[:1]))
+    rules = _Rules(check_loops(np.zeros((1, 30, 3))))  # neutral: batch[0] may hold inf
     gate = _applicability_gate()
     starts = range(0, n, chunk_size)
     units = [
