@@ -356,7 +356,7 @@ def test_frames_of_a_file_without_times_and_missing_values_counted(tmp_path):
 def test_unexpected_failures_become_the_files_reason(tmp_path, monkeypatch):
     f = _write(tmp_path / "FIC1.csv", "t,PV,OP\n0,1,2\n1,2,3\n")
 
-    def broken(path, kind):
+    def broken(path, kind, accept=None):
         raise RuntimeError("parser fell over")
 
     monkeypatch.setattr(_measured, "open_table", broken)
@@ -366,7 +366,7 @@ def test_unexpected_failures_become_the_files_reason(tmp_path, monkeypatch):
         "error", 0, "could not be read (RuntimeError: parser fell over); please report this file"
     ]  # fmt: skip
 
-    def denied(path, kind):
+    def denied(path, kind, accept=None):
         raise PermissionError(13, "Permission denied")
 
     monkeypatch.setattr(_measured, "open_table", denied)

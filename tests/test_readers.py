@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from sktiction.datasets import read_loop_file
 from sktiction.datasets._readers import (
     FileError,
     _blank_rows,
@@ -277,6 +278,24 @@ def test_workbooks(tmp_path):
     single = tmp_path / "single.xlsx"
     pd.DataFrame({"t": [0, 1], "PV": [1, 2]}).to_excel(single, index=False)
     assert open_table(single, "xlsx").info["notes"] == []
+
+
+def test_a_workbook_is_read_from_the_first_sheet_with_loop_columns(tmp_path):
+    """A cover sheet first: the loop's sheet is found, and the note says which."""
+    path = tmp_path / "book.xlsx"
+    with pd.ExcelWriter(path) as writer:
+        cover = pd.DataFrame({"note": ["exported by the historian"]})
+        cover.to_excel(writer, sheet_name="info", index=False)
+        pd.DataFrame({"t": [0, 1, 2], "PV": [1.0, 2, 3], "OP": [4.0, 5, 6]}).to_excel(
+            writer, sheet_name="data", index=False)  # fmt: skip
+    data = read_loop_file(path)
+    assert data.meta.loc[0, "status"] == "ok"
+    np.testing.assert_array_equal(data.X[0, :, 0], [1, 2, 3])
+    assert data.meta.loc[0, "reason"] == (
+        "workbook has 2 sheets: read 'data' (the first with loop columns) only")
+    # without an accept rule, or when no sheet has a loop: the first sheet with data
+    assert open_table(path, "xlsx").names == ["note"]
+    assert open_table(path, "xlsx", accept=lambda names: False).names == ["note"]
 
 
 def test_workbooks_that_cannot_be_read(tmp_path, monkeypatch):

@@ -158,6 +158,15 @@ def _split(name):
     return None
 
 
+def _plans(names, channels):
+    """Whether :func:`_plan` finds a loop among ``names``."""
+    try:
+        _plan(names, channels)
+    except FileError:
+        return False
+    return True
+
+
 def _plan(names, channels):
     """Which columns hold time and each loop's channels.
 
@@ -298,7 +307,7 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
     kind, why = file_kind(path)
     if kind is None:
         raise _Unsupported(why)
-    table = open_table(path, kind)
+    table = open_table(path, kind, accept=lambda names: _plans(names, channels))
     info, names = table.info, table.names
     time_pos, loops, notes = _plan(names, channels)
     positions = list(time_pos) + [p for _, g in loops for p in g.values()]

@@ -316,7 +316,20 @@ def _missing_extra(kind, module):
     )
 
 
-def _open_xlsx(path):
+def _sheet_table(frame):
+    """(names, body, rows skipped above the header) of one sheet's cells."""
+    filled = frame.iloc[:50].notna().sum(axis=1)
+    for i in range(len(filled)):
+        cells = [c for c in frame.iloc[i] if pd.notna(c)]
+        if len(cells) == filled.max() and any(isinstance(c, str) for c in cells):
+            names = ["" if pd.isna(c) else str(c).strip() for c in frame.iloc[i]]
+            body = frame.iloc[i + 1 :].reset_index(drop=True)
+            body.columns = range(body.shape[1])
+            return names, body, i
+    raise FileError("no header row (a row of column names) in the first 50 rows")
+
+
+def _open_xlsx(path, accept=None):
     try:
         import openpyxl  # noqa: F401
     except ImportError as exc:
@@ -325,33 +338,36 @@ def _open_xlsx(path):
         book = pd.ExcelFile(path, engine="openpyxl")
     except Exception as exc:  # zip or XML errors: the message is all we can pass on
         raise FileError(f"not a readable Excel workbook ({type(exc).__name__}: {exc})") from exc
-    notes = []
+    # the first sheet holding data whose columns ``accept`` takes (the loop's, not a cover
+    # sheet's); else the first holding data, whose columns then say what is missing
+    first = chosen = None
     with book:
-        sheet = None
         for name in book.sheet_names:
             frame = pd.read_excel(book, sheet_name=name, header=None, dtype=object)
             frame = frame.dropna(how="all", axis=1)
-            if frame.notna().any().any():
-                sheet = name
+            if not frame.notna().any().any():
+                continue
+            try:
+                table = (name, *_sheet_table(frame))
+            except FileError:
+                if first is None:
+                    first = (name, None, None, None)
+                continue
+            first = first or table
+            if accept is None or accept(table[1]):
+                chosen = table
                 break
-    if sheet is None:
+    if first is None:
         raise FileError("workbook holds no data")
-    if len(book.sheet_names) > 1:
-        notes.append(f"workbook has {len(book.sheet_names)} sheets: read {sheet!r} only")
-    filled = frame.iloc[:50].notna().sum(axis=1)
-    header = None
-    for i in range(len(filled)):
-        cells = [c for c in frame.iloc[i] if pd.notna(c)]
-        if len(cells) == filled.max() and any(isinstance(c, str) for c in cells):
-            header = i
-            break
-    if header is None:
+    sheet, names, body, header = chosen or first
+    if names is None:
         raise FileError("no header row (a row of column names) in the first 50 rows")
+    notes = []
+    if len(book.sheet_names) > 1:
+        which = " (the first with loop columns)" if chosen and chosen is not first else ""
+        notes.append(f"workbook has {len(book.sheet_names)} sheets: read {sheet!r}{which} only")
     if header:
         notes.append(f"{count(header, 'row')} above the header skipped")
-    names = ["" if pd.isna(c) else str(c).strip() for c in frame.iloc[header]]
-    body = frame.iloc[header + 1 :].reset_index(drop=True)
-    body.columns = range(body.shape[1])
     info = {"format": "xlsx", "tag": None, "time_format": None, "declared_rows": None}
     info["notes"] = notes
     return Table(names, info, lambda positions: body[positions].copy())
@@ -377,7 +393,12 @@ def _open_parquet(path):
     return Table(names, info, reader)
 
 
-def open_table(path, kind):
-    """Open ``path`` as a :class:`Table` of the given kind (from :func:`file_kind`)."""
-    opener = {"text": _open_text, "xlsx": _open_xlsx, "parquet": _open_parquet}[kind]
-    return opener(Path(path))
+def open_table(path, kind, accept=None):
+    """Open ``path`` as a :class:`Table` of the given kind (from :func:`file_kind`).
+
+    ``accept(names)`` says whether a workbook sheet's columns will do (a workbook is read
+    from the first sheet it accepts); text and Parquet files have one table only.
+    """
+    if kind == "xlsx":
+        return _open_xlsx(Path(path), accept)
+    return {"text": _open_text, "parquet": _open_parquet}[kind](Path(path))
