@@ -416,3 +416,13 @@ def test_manual_rows_become_gaps_only_where_mode_is_zero_or_one(tmp_path):
     coded = read_loop_file(_write(tmp_path / "b.csv", body.replace("\n1,1,1,1", "\n1,1,1,2")))
     np.testing.assert_array_equal(coded.X[0, :, 0], [0, 1, 2, 3])
     assert "manual" not in coded.meta.loc[0, "reason"]
+
+
+def test_points_that_group_thousands_beside_a_decimal_comma(tmp_path):
+    """1.500,25 is one thousand five hundred: a European export, not a missing value."""
+    f = _write(tmp_path / "FIC1.csv", "t;PV;OP\n0;1.500,25;49,9\n1;1.499,75;50,1\n"
+               "2;12.000;50,0\n3;999,5;50,2\n")  # fmt: skip
+    data = read_loop_file(f)
+    np.testing.assert_allclose(data.X[0, :, 0], [1500.25, 1499.75, 12000.0, 999.5])
+    np.testing.assert_allclose(data.X[0, :, 1], [49.9, 50.1, 50.0, 50.2])
+    assert data.meta.loc[0, "reason"] == "decimal comma"

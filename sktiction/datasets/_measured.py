@@ -53,6 +53,7 @@ _TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
 _KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}
 _LOOP_KEYS = ("pv", "op", "sp", "mode")
 # Text in a MODE column: automatic (and cascade) count as closed loop.
+_GROUPED = r"\s*[-+]?\d{1,3}(?:\.\d{3})+(?:,\d*)?\s*"  # 1.500,25 or 12.000
 _MODE_TEXT = {"auto": 1.0, "aut": 1.0, "cas": 1.0, "cascade": 1.0, "man": 0.0, "manual": 0.0}
 # Text a historian writes for a missing value; read as NaN without being counted as status.
 _MISSING_TEXT = ("", "nan", "na", "n/a", "null", "none")
@@ -250,7 +251,12 @@ def _numeric(col, name, decimal, strict):
         return col.to_numpy(dtype=float, na_value=np.nan), Counter()
     text = col.astype(object)
     if decimal == ",":
-        text = col.astype(str).str.replace(",", ".", regex=False).where(col.notna(), None)
+        text = col.astype(str)
+        # with a decimal comma a point groups thousands (1.500,25): only where it does so
+        grouped = text.str.fullmatch(_GROUPED)
+        if grouped.any():
+            text = text.where(~grouped, text.str.replace(".", "", regex=False))
+        text = text.str.replace(",", ".", regex=False).where(col.notna(), None)
     values = pd.to_numeric(text, errors="coerce")
     bad = values.isna().to_numpy() & col.notna().to_numpy()
     if not bad.any():
