@@ -284,11 +284,14 @@ def test_last_sample_on_the_grid_next_to_nan_and_gap_counts():
 
 
 def test_numeric_columns_of_any_numpy_dtype_and_all_missing():
-    # ints, floats with NaN and inf: read as numbers, as through the general branch
+    # ints, floats with NaN and inf: read as numbers, as through the general branch (inf:
+    # no time, like NaN)
     t, start, notes = parse_times(pd.Series([3, 5, 9]))
     assert t.tolist() == [0.0, 2.0, 6.0] and pd.isna(start) and notes == []
     t = parse_times(pd.Series([2.0, np.nan, 4.0, np.inf]))[0]
-    np.testing.assert_array_equal(t, [0.0, np.nan, 2.0, np.inf])
+    np.testing.assert_array_equal(t, [0.0, np.nan, 2.0, np.nan])
+    t = parse_times(pd.Series(["2", "", "4", "inf"]))[0]
+    np.testing.assert_array_equal(t, [0.0, np.nan, 2.0, np.nan])
     with pytest.raises(TimeError, match="time column is empty"):
         parse_times(pd.Series([np.nan, np.nan]))
 
@@ -343,3 +346,9 @@ def test_day_first_note_only_when_the_whole_column_allows_both_orders():
     early = pd.Series(pd.date_range("2024-01-01", periods=100, freq="10min")
                       .strftime("%d/%m/%Y %H:%M"))  # fmt: skip
     assert parse_times(early)[2] == ["dates could be day/month or month/day: read day first"]
+
+
+@pytest.mark.parametrize("raw", [[0.0, 1.0, np.inf, 3.0], ["0", "1", "-inf", "3"]])
+def test_an_infinite_time_is_a_row_without_a_time(raw):
+    t, _, _ = parse_times(pd.Series(raw))
+    np.testing.assert_array_equal(t, [0, 1, np.nan, 3])  # skipped by the reader, with a note

@@ -273,7 +273,8 @@ default="auto"
     """
     if isinstance(raw.dtype, np.dtype) and raw.dtype.kind in "fiu":
         # Plain numbers, the usual case: the branch below in numpy, without pandas' overhead.
-        values = raw.to_numpy(dtype=float)
+        values = raw.to_numpy(dtype=float, copy=True)
+        values[np.isinf(values)] = np.nan  # no time: the row is skipped like a blank one
         if not np.isnan(values).all():
             t, start, note = _numeric_times(values, unit)
             return t, start, [note] if note else []
@@ -291,7 +292,9 @@ default="auto"
             numeric = pd.to_numeric(raw, errors="coerce") if head.notna().mean() > 0.5 else None
         # Mostly numbers: numeric times, the odd text value a row without a time.
         if numeric is not None and numeric.notna().sum() > 0.5 * present.sum():
-            t, start, note = _numeric_times(numeric.to_numpy(dtype=float), unit)
+            values = numeric.to_numpy(dtype=float, copy=True)
+            values[np.isinf(values)] = np.nan  # as above
+            t, start, note = _numeric_times(values, unit)
             return t, start, [note] if note else []
         stamps, notes = _text_times(raw, time_format)
     ok = stamps.notna().to_numpy()
