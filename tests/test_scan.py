@@ -301,3 +301,25 @@ def test_a_loop_with_infinite_values_gets_its_own_status(small_learned, no_gate)
     assert report.loc[1, "verdict"] == "no_verdict"
     others = [2, 3]
     pd.testing.assert_frame_equal(report.loc[others], clean.loc[others], check_dtype=False)
+
+
+def test_scan_loops_bridges_gaps_as_scan_files_does_when_asked(small_learned, no_gate):
+    from sktiction._validation import repair_gaps
+
+    X, _ = make_loops(4, n_samples=1500, world="classic", random_state=3)  # full lengths
+    X[0, 700:702] = np.nan  # short: bridged
+    X[1, 400:700] = np.nan  # long: the longest stretch is kept
+    X[2, 10, 1] = np.inf  # left alone: not_finite
+    plain = scan_loops(X, classifier=small_learned)
+    assert plain["status"].tolist()[:3] == ["nan_gap", "nan_gap", "not_finite"]
+    report = scan_loops(X, classifier=small_learned, max_gap="auto", chunk_size=3)
+    assert list(report.columns[:4]) == ["n_bridged", "n_gaps_split", "kept_start", "kept_stop"]
+    assert report["status"].tolist() == ["ok", "ok", "not_finite", "ok"]
+    assert report.loc[0, "n_bridged"] == 1 and report.loc[1, "kept_start"] == 700
+    assert np.isnan(report.loc[2, "n_bridged"])
+    fixed, _ = repair_gaps(np.delete(X, 2, axis=0))
+    expected = scan_loops(fixed, classifier=small_learned)
+    kept = report.drop(index=2).drop(columns=report.columns[:4]).reset_index(drop=True)
+    pd.testing.assert_frame_equal(kept, expected, check_dtype=False)
+    with pytest.raises(ValueError):
+        scan_loops(X, classifier=small_learned, max_gap=-1)

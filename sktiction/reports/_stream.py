@@ -23,6 +23,7 @@ from ..classifiers import pretrained_classifier
 from ..datasets import list_loop_files
 from ..datasets._measured import _META_COLUMNS, _meta_frame, read_loop_rows
 from .scan import (
+    GAP_COLUMNS,
     NO_VERDICT,
     REPORT_COLUMNS,
     LearnedAdapter,
@@ -38,7 +39,6 @@ from .scan import (
 
 #: Scan status of a file that could not be read or is not a loop file.
 STATUS_UNREADABLE = "unreadable"
-_GAP_COLUMNS = ("n_bridged", "n_gaps_split", "kept_start", "kept_stop")
 
 
 def _unreadable_rows(meta):
@@ -75,8 +75,8 @@ def _meta(rows):
     """Meta DataFrame of some files' loops (as read_loop_file's meta, concatenated), with
     the gap-repair columns when the rows hold them."""
     meta = _meta_frame(rows)
-    if any(_GAP_COLUMNS[0] in r for r in rows):
-        gaps = {c: np.array([r.get(c, np.nan) for r in rows], dtype=float) for c in _GAP_COLUMNS}
+    if any(GAP_COLUMNS[0] in r for r in rows):
+        gaps = {c: np.array([r.get(c, np.nan) for r in rows], dtype=float) for c in GAP_COLUMNS}
         meta = pd.concat([meta, pd.DataFrame(gaps)], axis=1)
     return meta
 
@@ -89,7 +89,7 @@ def _read(path, channels, ts, max_gap):
     finite = ~np.isinf(X).any(axis=(1, 2)) if X.size else np.ones(len(X), dtype=bool)
     if max_gap is not None:
         for row in rows:  # every row has the columns, NaN where nothing was repaired
-            row.update(dict.fromkeys(_GAP_COLUMNS, np.nan))
+            row.update(dict.fromkeys(GAP_COLUMNS, np.nan))
     if max_gap is not None and (readable & finite).any():
         idx = np.flatnonzero(readable & finite)
         lengths = _gap_free(X[idx])
@@ -99,7 +99,7 @@ def _read(path, channels, ts, max_gap):
             repaired, info = repair_gaps(X[idx], max_gap=max_gap)
             X = X.copy()
             X[idx] = repaired[:, : X.shape[1]]
-        for col in _GAP_COLUMNS:
+        for col in GAP_COLUMNS:
             values = np.full(len(rows), np.nan)
             values[idx] = np.asarray(info[col], dtype=float)
             for row, value in zip(rows, values.tolist()):
@@ -278,7 +278,7 @@ def _in_column_order(report):
     """The report's columns in one order, whichever kind of file came first (an
     unreadable file's rows have fewer meta columns, and concat keeps first-seen order)."""
     meta = [f"input_{c}" if c in REPORT_COLUMNS else c for c in _META_COLUMNS]
-    order = [c for c in (*meta, *_GAP_COLUMNS, *REPORT_COLUMNS) if c in report]
+    order = [c for c in (*meta, *GAP_COLUMNS, *REPORT_COLUMNS) if c in report]
     return report[order + [c for c in report if c not in order]]
 
 

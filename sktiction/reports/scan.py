@@ -17,7 +17,7 @@ import pandas as pd
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.pipeline import FeatureUnion, Pipeline
 
-from .._validation import STATUS_OK, check_loops, loop_status
+from .._validation import STATUS_OK, check_loops, loop_status, repair_gaps
 from ..classifiers import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
 from ..classifiers.shape_library import LOOP_TYPES
 from ..features._loops import LoopTransformer, analyse_loops
@@ -39,6 +39,8 @@ REPORT_COLUMNS = [
     "stiction_band_fit",
     "reason",
 ]
+#: What gap repair (:func:`~sktiction._validation.repair_gaps`) reports per loop.
+GAP_COLUMNS = ("n_bridged", "n_gaps_split", "kept_start", "kept_stop")
 #: Probability from which the learned classifier's verdict is "stiction".
 STICTION_THRESHOLD = 0.5
 VERDICT_STICTION, VERDICT_HEALTHY, NO_VERDICT = "stiction", "no_stiction", "no_verdict"
@@ -395,13 +397,34 @@ def _with_shared(fn, unit, blob):
     return fn(*unit, *blob.load())
 
 
-def _scan_unit(loops, loop_types, ts, learned, rules, gate):
-    return _scan_safely(loops, loop_types, learned, rules, ts, gate)
+def _scan_unit(loops, loop_types, ts, learned, rules, gate, max_gap=None):
+    if max_gap is None:
+        return _scan_safely(loops, loop_types, learned, rules, ts, gate)
+    loops, gaps = _repaired(loops, max_gap)
+    report = _scan_safely(loops, loop_types, learned, rules, ts, gate)
+    return pd.concat([gaps, report], axis=1)
+
+
+def _repaired(loops, max_gap):
+    """Loops with short gaps bridged and the longest stretch kept (as :func:`scan_files`
+    does), and what was done; a loop holding inf is left as it is (it gets not_finite)."""
+    loops = np.asarray(loops, dtype=float)
+    n, m = loops.shape[:2]
+    out = np.full((n, m, 3), np.nan)
+    out[:, :, : loops.shape[2]] = loops
+    gaps = pd.DataFrame(np.nan, index=range(n), columns=list(GAP_COLUMNS))
+    good = np.flatnonzero(~np.isinf(out).any(axis=(1, 2)))
+    if good.size:
+        fixed, info = repair_gaps(out[good], max_gap=max_gap)
+        out[good] = fixed[:, :m]
+        gaps.iloc[good] = info[list(GAP_COLUMNS)].to_numpy(dtype=float)
+    return out, gaps
 
 
 def scan_loops(
-    X, meta=None, *, classifier=None, chunk_size=64, n_jobs=None, progress=False, client=None
-):
+    X, meta=None, *, classifier=None, chunk_size=64, n_jobs=None, progress=False, client=None,
+    max_gap=None,
+):  # fmt: skip
     """Diagnose every loop of a batch; bad loops get a status, never an exception.
 
     Runs the three classifiers on each loop: the learned classifier gives the
@@ -446,6 +469,13 @@ def scan_loops(
         Run the chunks on this dask cluster (``pip install "sktiction[dask]"``; the
         chunks are sent to the workers). For files, :func:`scan_files` lets the
         workers read their own. The report is the same as a local scan's.
+    max_gap : "auto", int or None, default=None
+        ``None`` leaves NaN gaps inside a record (the loop gets ``nan_gap``); ``"auto"``
+        or a number of samples bridges short gaps and keeps the longest stretch, as
+        :func:`scan_files` does (:func:`~sktiction._validation.repair_gaps`; the report
+        then has ``n_bridged``, ``n_gaps_split``, ``kept_start``, ``kept_stop``). Use it
+        for loops read with :func:`~sktiction.datasets.read_loops`, whose manual-mode
+        rows and missing values are gaps.
 
     Returns
     -------
@@ -478,6 +508,8 @@ def scan_loops(
     learned = LearnedAdapter(classifier if classifier is not None else pretrained_classifier())
     rules = _Rules(check_loops(np.zeros((1, 30, 3))))  # neutral: batch[0] may hold inf
     gate = _applicability_gate()
+    if max_gap is not None:
+        repair_gaps(np.zeros((1, 30, 3)), max_gap=max_gap)  # a bad max_gap fails here, once
     starts = range(0, n, chunk_size)
     units = [
         (batch[s : s + chunk_size], loop_types[s : s + chunk_size],
@@ -485,7 +517,8 @@ def scan_loops(
         for s in starts
     ]
     with progress_bar(n, progress) as bar:
-        parts = run_units(_scan_unit, units, (learned, rules, gate), n_jobs=n_jobs,
+        parts = run_units(_scan_unit, units, (learned, rules, gate, max_gap), n_jobs=n_jobs,
                           client=client, bar=bar, sizes=[len(u[1]) for u in units])
-    report = pd.concat(parts, ignore_index=True)[REPORT_COLUMNS]
+    gap_columns = list(GAP_COLUMNS) if max_gap is not None else []
+    report = pd.concat(parts, ignore_index=True)[gap_columns + REPORT_COLUMNS]
     return join_meta(meta, report)
