@@ -284,6 +284,6 @@ def test_manual_mode_rows_are_left_out_of_the_diagnosis(quick, tmp_path, capsys)
     out = tmp_path / "out.csv"
     assert cli.main(["scan", str(tmp_path / "FIC1.csv"), "-q", "-o", str(out)]) == 0
     row = pd.read_csv(out).iloc[0]
-    assert "800 rows in manual mode (MODE 0) read as gaps" in row["input_reason"]
+    assert "800 rows in manual mode (MODE 0): a scan reads them as gaps" in row["input_reason"]
     assert (row["kept_start"], row["kept_stop"]) == (800, 2000)
     assert row["auto_fraction"] == 0.6 and row["status"] == "ok"

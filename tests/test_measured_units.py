@@ -147,9 +147,9 @@ def test_loops_without_op_keep_their_setpoint_and_each_loop_its_mode(tmp_path):
     assert data.meta.loc[0, "reason"] == "no OP column"
     g = _write(tmp_path / "b.csv", "t,FIC1.PV,FIC1.OP,FIC1.MODE,LIC2.PV,LIC2.OP,LIC2.MODE\n"
                "0,1,2,AUTO,3,4,MAN\n1,2,3,AUTO,4,5,AUTO\n")  # fmt: skip
-    wide = read_loop_file(g)  # the second loop's first row is MAN: a gap in X
-    np.testing.assert_array_equal(wide.X[:, :, 0], [[1, 2], [np.nan, 4]])
-    np.testing.assert_array_equal(wide.X[:, :, 1], [[2, 3], [np.nan, 5]])
+    wide = read_loop_file(g)
+    np.testing.assert_array_equal(wide.X[:, :, 0], [[1, 2], [3, 4]])
+    np.testing.assert_array_equal(wide.X[:, :, 1], [[2, 3], [4, 5]])
     assert wide.meta["auto_fraction"].tolist() == [1.0, 0.5]
 
 
@@ -256,13 +256,13 @@ def test_resampling_holds_the_mode_and_strict_only_reports(tmp_path):
     assert frame.loc[3, "op"] == pytest.approx(30 + 10 / 1.5)
     assert frame.loc[3, "mode"] == 0.0
     assert data.meta.loc[0, "reason"].endswith(
-        "resampled to 7 rows at 1 s; 2 rows in manual mode (MODE 0) read as gaps: no loop to "
-        "diagnose there")  # fmt: skip
+        "resampled to 7 rows at 1 s; 2 rows in manual mode (MODE 0): a scan reads them as "
+        "gaps")  # fmt: skip
     strict = read_loop_file(f, strict=True, return_frames=True)
     assert strict.frames[0]["time"].tolist() == [0, 1, 2, 3.5, 4, 5, 6]  # reported only
     assert strict.meta.loc[0, "reason"] == (
         "irregular sampling: 2 intervals differ from 1 s (min 0.5, max 1.5); 1 row in manual "
-        "mode (MODE 0) read as gaps: no loop to diagnose there"
+        "mode (MODE 0): a scan reads them as gaps"
     )
 
 
@@ -409,13 +409,17 @@ def test_each_loop_of_a_wide_file_holds_its_own_mode_when_resampled(tmp_path):
 
 
 def test_manual_rows_become_gaps_only_where_mode_is_zero_or_one(tmp_path):
-    """0 means manual only in a 0/1 (or text) column; other DCS codes leave the data alone."""
+    """0 means manual only in a 0/1 (or text) column; other DCS codes leave the data alone.
+    The reader keeps the values; the scan's manual_gaps blanks the manual rows."""
     body = "t,PV,OP,MODE\n" + "".join(f"{i},{i},{i},{m}\n" for i, m in enumerate([1, 1, 0, 1]))
-    binary = read_loop_file(_write(tmp_path / "a.csv", body))
-    np.testing.assert_array_equal(binary.X[0, :, 0], [0, 1, np.nan, 3])
-    coded = read_loop_file(_write(tmp_path / "b.csv", body.replace("\n1,1,1,1", "\n1,1,1,2")))
-    np.testing.assert_array_equal(coded.X[0, :, 0], [0, 1, 2, 3])
-    assert "manual" not in coded.meta.loc[0, "reason"]
+    X, rows, _ = _measured.read_loop_rows(_write(tmp_path / "a.csv", body))
+    np.testing.assert_array_equal(X[0, :, 0], [0, 1, 2, 3])
+    np.testing.assert_array_equal(_measured.manual_gaps(X, rows)[0, :, 0], [0, 1, np.nan, 3])
+    np.testing.assert_array_equal(X[0, :, 0], [0, 1, 2, 3])  # a copy, not the reader's X
+    coded = _write(tmp_path / "b.csv", body.replace("\n1,1,1,1", "\n1,1,1,2"))
+    X, rows, _ = _measured.read_loop_rows(coded)
+    np.testing.assert_array_equal(_measured.manual_gaps(X, rows)[0, :, 0], [0, 1, 2, 3])
+    assert "manual" not in rows[0]["reason"]
 
 
 def test_points_that_group_thousands_beside_a_decimal_comma(tmp_path):

@@ -42,18 +42,17 @@ def test_historian_file(tmp_path):
     f = write(tmp_path / "a.txt", historian_text())
     data = read_loops(f, return_frames=True)
     assert data.X.shape == (1, 4, 3)
-    # the third row is in manual mode (MODE 0): a gap in X, the file's values in frames
-    np.testing.assert_allclose(data.X[0, :, 0], [48.1, 48.2, np.nan, 48.4])  # PV
-    np.testing.assert_allclose(data.X[0, :, 1], [9.1, 9.2, np.nan, 9.4])  # OP = MV
-    np.testing.assert_allclose(data.X[0, :, 2], [48.0, 48.0, np.nan, 48.5])  # SP = SV
-    np.testing.assert_allclose(data.frames[0]["pv"], [48.1, 48.2, 48.3, 48.4])
+    # the third row is in manual mode (MODE 0): kept, counted in reason (a scan leaves it out)
+    np.testing.assert_allclose(data.X[0, :, 0], [48.1, 48.2, 48.3, 48.4])  # PV
+    np.testing.assert_allclose(data.X[0, :, 1], [9.1, 9.2, 9.3, 9.4])  # OP = MV
+    np.testing.assert_allclose(data.X[0, :, 2], [48.0, 48.0, 48.5, 48.5])  # SP = SV
     row = data.meta.iloc[0]
     assert row["tag"] == "2111FIC10201" and row["isa"] == "FIC" and row["loop_type"] == "flow"
     assert row["ts"] == 10.0 and row["n_samples"] == 4 and row["format"] == "historian"
     assert row["auto_fraction"] == 0.75
     assert row["start"] == pd.Timestamp("2024-10-17 21:55:00")
     assert row["status"] == "ok"
-    assert row["reason"] == "1 row in manual mode (MODE 0) read as gaps: no loop to diagnose there"
+    assert row["reason"] == "1 row in manual mode (MODE 0): a scan reads them as gaps"
     np.testing.assert_allclose(data.frames[0]["time"], [0, 10, 20, 30])
 
 
@@ -532,4 +531,4 @@ def test_historian_with_two_tags(tmp_path):
     assert data.meta["tag"].tolist() == ["2111FIC10201", "LIC7"]
     assert data.meta["loop_type"].tolist() == ["flow", "level"]
     np.testing.assert_allclose(data.X[1], [[10 + i, i, 15] for i in range(5, 9)])
-    np.testing.assert_allclose(data.X[0, :, 0], [48.1, 48.2, np.nan, 48.4])  # MODE 0 row
+    np.testing.assert_allclose(data.X[0, :, 0], [48.1, 48.2, 48.3, 48.4])

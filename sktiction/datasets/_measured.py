@@ -389,25 +389,39 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
         # 0/1 (or text): other numeric codes are the DCS's own, and 0 may mean anything
         codes = np.unique(mode[np.isfinite(mode)])
         manual = (mode == 0) if np.isin(codes, (0.0, 1.0)).all() else np.zeros(m, bool)
-        if status == STATUS_OK and manual.any():
-            reason.append(f"{count(int(manual.sum()), 'row')} in manual mode (MODE 0) read "
-                          "as gaps: no loop to diagnose there")  # fmt: skip
+        manual &= status == STATUS_OK
+        if manual.any():
+            reason.append(f"{count(int(manual.sum()), 'row')} in manual mode (MODE 0): a scan "
+                          "reads them as gaps")  # fmt: skip
         rows.append({
             "format": info["format"], "tag": tag, "isa": isa, "loop_type": loop_type,
             "ts": step, "n_samples": m, "n_nan": int(missing.sum()),
             "auto_fraction": float(np.mean(mode == 1)) if "mode" in g else np.nan,
             "start": start, "status": status, "reason": "; ".join(reason),
+            "manual_rows": manual,  # not a meta column: for the scan (see manual_gaps)
         })  # fmt: skip
-        if return_frames:  # the file's own values, manual rows included
+        if return_frames:
             frames.append(
                 pd.DataFrame({
-                    "time": t if time_pos else np.arange(m) * step, "pv": pv.copy(),
-                    "op": op.copy(), "sp": X[j, :, 2].copy(), "mode": mode,
+                    "time": t if time_pos else np.arange(m) * step, "pv": pv, "op": op,
+                    "sp": X[j, :, 2], "mode": mode,
                 })  # fmt: skip
             )
-        if status == STATUS_OK:
-            X[j, manual] = np.nan
     return X, rows, frames
+
+
+def manual_gaps(X, rows):
+    """``X`` with the rows :func:`read_loop_rows` found in manual mode as NaN gaps: no
+    closed loop to diagnose there. A scan does this; :func:`read_loop_file` keeps the
+    file's values (``meta["auto_fraction"]`` and ``reason`` tell)."""
+    manual = [r.get("manual_rows") for r in rows]
+    if not any(m is not None and m.any() for m in manual):
+        return X
+    X = X.copy()
+    for j, m in enumerate(manual):
+        if m is not None and m.any():
+            X[j, m] = np.nan
+    return X
 
 
 def _channel_values(frame, loops, names, decimal, strict):
@@ -516,8 +530,8 @@ default="auto"
             level, pressure, temperature or unknown, from the ISA letters of the tag),
             ``ts`` (s), ``n_samples``, ``n_nan`` (rows with PV, or OP when present,
             missing), ``auto_fraction`` (share of rows with MODE == 1, NaN without MODE;
-            manual rows, MAN or 0 in a column of 0/1, are NaN in ``X``: gaps, noted in
-            ``reason``; other numeric codes leave ``X`` as it is),
+            manual rows, MAN or 0 in a column of 0/1, are counted in ``reason`` and kept in
+            ``X``; :func:`~sktiction.reports.scan_files` reads them as gaps),
             ``start`` (first timestamp or NaT), ``status`` (``ok``, ``error`` or
             ``unsupported``), ``reason`` (the error, or notes separated by ``"; "``: rows
             sorted, duplicated timestamps kept the first, resampled to the median step,

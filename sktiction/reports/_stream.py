@@ -21,7 +21,7 @@ from .._validation import (
 )
 from ..classifiers import pretrained_classifier
 from ..datasets import list_loop_files
-from ..datasets._measured import _META_COLUMNS, _meta_frame, read_loop_rows
+from ..datasets._measured import _META_COLUMNS, _meta_frame, manual_gaps, read_loop_rows
 from .scan import (
     GAP_COLUMNS,
     NO_VERDICT,
@@ -84,6 +84,7 @@ def _meta(rows):
 def _read(path, channels, ts, max_gap):
     """One file's loops and meta rows, short gaps bridged (``repair_gaps``) when asked."""
     X, rows, _ = read_loop_rows(path, channels, ts)
+    X = manual_gaps(X, rows)  # no closed loop to diagnose in manual mode
     readable = np.array([r["status"] == STATUS_OK for r in rows]) & (X.shape[1] > 0)
     # a loop holding inf is not repaired (inf is no gap): the scan gives it not_finite
     finite = ~np.isinf(X).any(axis=(1, 2)) if X.size else np.ones(len(X), dtype=bool)

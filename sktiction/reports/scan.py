@@ -473,9 +473,9 @@ def scan_loops(
         ``None`` leaves NaN gaps inside a record (the loop gets ``nan_gap``); ``"auto"``
         or a number of samples bridges short gaps and keeps the longest stretch, as
         :func:`scan_files` does (:func:`~sktiction._validation.repair_gaps`; the report
-        then has ``n_bridged``, ``n_gaps_split``, ``kept_start``, ``kept_stop``). Use it
-        for loops read with :func:`~sktiction.datasets.read_loops`, whose manual-mode
-        rows and missing values are gaps.
+        then has ``n_bridged``, ``n_gaps_split``, ``kept_start``, ``kept_stop``), e.g. for
+        loops read with :func:`~sktiction.datasets.read_loops`, whose missing values are
+        gaps.
 
     Returns
     -------
