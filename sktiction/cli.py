@@ -168,7 +168,9 @@ def _not_loop_files(report, table):
         return pd.Series(False, index=table.index)
     names = report["path"].fillna("").astype(str).map(lambda p: Path(p).name)
     suffix = names.map(lambda n: Path(n).suffix.lower())
-    index = names.str.lower().isin(["index.csv", "index.txt"])
+    from .datasets._readers import INDEX_NAMES
+
+    index = names.str.lower().isin(INDEX_NAMES)
     plain = (suffix == "") | suffix.isin(_DOCUMENTS) | index
     return (table["read"] == "unsupported") & plain
 

@@ -229,7 +229,7 @@ def test_the_applicability_gate_is_applied_to_files(tmp_path, monkeypatch):
 def test_gap_free_files_skip_repair_gaps_with_its_answer():
     """A file without a missing value gets repair_gaps' own info without running it; one
     with a gap, a leading NaN, or an inf in a channel it has goes through repair_gaps."""
-    from sktiction.reports._stream import _gap_free
+    from sktiction.reports.scan import _gap_free
 
     X, _ = make_loops(3, n_samples=300, random_state=0)
     X[1, 250:] = np.nan  # a shorter loop (padding)

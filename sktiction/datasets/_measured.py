@@ -52,8 +52,8 @@ _TIME_UNIT = re.compile(r"[\[(_ ](ms|min|h)[\])]?$")
 _TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
 _KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}
 _LOOP_KEYS = ("pv", "op", "sp", "mode")
-# Text in a MODE column: automatic (and cascade) count as closed loop.
 _GROUPED = r"\s*[-+]?\d{1,3}(?:\.\d{3})+(?:,\d*)?\s*"  # 1.500,25 or 12.000
+# Text in a MODE column: automatic (and cascade) count as closed loop.
 _MODE_TEXT = {"auto": 1.0, "aut": 1.0, "cas": 1.0, "cascade": 1.0, "man": 0.0, "manual": 0.0}
 # Text a historian writes for a missing value; read as NaN without being counted as status.
 _MISSING_TEXT = ("", "nan", "na", "n/a", "null", "none")

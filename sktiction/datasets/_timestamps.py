@@ -64,8 +64,11 @@ def _numeric_unit(values):
 
 
 def _numeric_times(values, unit):
-    """Seconds from the earliest value, start time, note."""
+    """Seconds from the earliest value, start time, note; inf is no time (NaN: the
+    reader skips the row like a blank one)."""
     v = np.asarray(values, dtype=float)
+    if np.isinf(v).any():
+        v = np.where(np.isinf(v), np.nan, v)
     if unit == "auto":
         unit = _numeric_unit(v)
     v0 = np.nanmin(v)
@@ -273,9 +276,8 @@ default="auto"
     """
     if isinstance(raw.dtype, np.dtype) and raw.dtype.kind in "fiu":
         # Plain numbers, the usual case: the branch below in numpy, without pandas' overhead.
-        values = raw.to_numpy(dtype=float, copy=True)
-        values[np.isinf(values)] = np.nan  # no time: the row is skipped like a blank one
-        if not np.isnan(values).all():
+        values = raw.to_numpy(dtype=float)
+        if np.isfinite(values).any():
             t, start, note = _numeric_times(values, unit)
             return t, start, [note] if note else []
     if pd.api.types.is_datetime64_any_dtype(raw):
@@ -292,9 +294,7 @@ default="auto"
             numeric = pd.to_numeric(raw, errors="coerce") if head.notna().mean() > 0.5 else None
         # Mostly numbers: numeric times, the odd text value a row without a time.
         if numeric is not None and numeric.notna().sum() > 0.5 * present.sum():
-            values = numeric.to_numpy(dtype=float, copy=True)
-            values[np.isinf(values)] = np.nan  # as above
-            t, start, note = _numeric_times(values, unit)
+            t, start, note = _numeric_times(numeric.to_numpy(dtype=float), unit)
             return t, start, [note] if note else []
         stamps, notes = _text_times(raw, time_format)
     ok = stamps.notna().to_numpy()

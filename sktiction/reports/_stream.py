@@ -15,9 +15,6 @@ import pandas as pd
 from .._validation import (
     STATUS_OK,
     check_loops,
-    loop_lengths,
-    missing_samples,
-    repair_gaps,
 )
 from ..classifiers import pretrained_classifier
 from ..datasets import list_loop_files
@@ -33,6 +30,7 @@ from .scan import (
     join_meta,
     loop_types_of,
     progress_bar,
+    repaired,
     run_units,
     sampling_times,
 )
@@ -61,16 +59,6 @@ def _pad(arrays):
     return out
 
 
-def _gap_free(X):
-    """Lengths of ``X``'s loops if none misses a value (NaN or inf) before its end in a
-    channel it has, else None: then ``repair_gaps`` has nothing to bridge, split or cut."""
-    lengths = loop_lengths(X)
-    for x, n in zip(X, lengths):
-        if missing_samples(x, n)[1].any() or np.isinf(x[:n]).any():
-            return None
-    return lengths
-
-
 def _meta(rows):
     """Meta DataFrame of some files' loops (as read_loop_file's meta, concatenated), with
     the gap-repair columns when the rows hold them."""
@@ -86,25 +74,10 @@ def _read(path, channels, ts, max_gap):
     X, rows, _ = read_loop_rows(path, channels, ts)
     X = manual_gaps(X, rows)  # no closed loop to diagnose in manual mode
     readable = np.array([r["status"] == STATUS_OK for r in rows]) & (X.shape[1] > 0)
-    # a loop holding inf is not repaired (inf is no gap): the scan gives it not_finite
-    finite = ~np.isinf(X).any(axis=(1, 2)) if X.size else np.ones(len(X), dtype=bool)
     if max_gap is not None:
-        for row in rows:  # every row has the columns, NaN where nothing was repaired
-            row.update(dict.fromkeys(GAP_COLUMNS, np.nan))
-    if max_gap is not None and (readable & finite).any():
-        idx = np.flatnonzero(readable & finite)
-        lengths = _gap_free(X[idx])
-        if lengths is not None:  # most files: what repair_gaps would say, without its work
-            info = {"n_bridged": 0, "n_gaps_split": 0, "kept_start": 0, "kept_stop": lengths}
-        else:
-            repaired, info = repair_gaps(X[idx], max_gap=max_gap)
-            X = X.copy()
-            X[idx] = repaired[:, : X.shape[1]]
-        for col in GAP_COLUMNS:
-            values = np.full(len(rows), np.nan)
-            values[idx] = np.asarray(info[col], dtype=float)
-            for row, value in zip(rows, values.tolist()):
-                row[col] = value
+        X, gaps = repaired(X, max_gap, readable)
+        for row, values in zip(rows, gaps.tolist()):
+            row.update(zip(GAP_COLUMNS, values))
     return X, rows, readable
 
 

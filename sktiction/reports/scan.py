@@ -17,7 +17,14 @@ import pandas as pd
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.pipeline import FeatureUnion, Pipeline
 
-from .._validation import STATUS_OK, check_loops, loop_status, repair_gaps
+from .._validation import (
+    STATUS_OK,
+    check_loops,
+    loop_lengths,
+    loop_status,
+    missing_samples,
+    repair_gaps,
+)
 from ..classifiers import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
 from ..classifiers.shape_library import LOOP_TYPES
 from ..features._loops import LoopTransformer, analyse_loops
@@ -266,15 +273,12 @@ def _scan_safely(loops, loop_types, learned, rules=None, ts=None, gate=None):
     infinite = np.isinf(np.asarray(loops, dtype=float)).any(axis=(1, 2))
     if infinite.any() and not infinite.all():
         # the others as one chunk: loop by loop costs a chunk about four times as much
-        good = np.flatnonzero(~infinite)
+        good, bad = np.flatnonzero(~infinite), np.flatnonzero(infinite)
         part = _scan_safely(np.asarray(loops)[good], loop_types[good], learned, rules,
                             None if ts is None else np.asarray(ts)[good], gate)  # fmt: skip
-        rows = [None] * len(loops)
-        for k, i in enumerate(good):
-            rows[i] = part.iloc[[k]]
-        for i in np.flatnonzero(infinite):
-            rows[i] = _error_row(None, loops[i])
-        return pd.concat(rows, ignore_index=True)
+        errors = pd.concat([_error_row(None, loops[i]) for i in bad], ignore_index=True)
+        both = pd.concat([part.set_axis(good), errors.set_axis(bad)])
+        return both.sort_index().reset_index(drop=True)
     try:
         loops = check_loops(loops)
         return _scan_chunk(loops, loop_types, learned, rules, ts, gate)
@@ -400,25 +404,46 @@ def _with_shared(fn, unit, blob):
 def _scan_unit(loops, loop_types, ts, learned, rules, gate, max_gap=None):
     if max_gap is None:
         return _scan_safely(loops, loop_types, learned, rules, ts, gate)
-    loops, gaps = _repaired(loops, max_gap)
+    loops, gaps = repaired(loops, max_gap)
     report = _scan_safely(loops, loop_types, learned, rules, ts, gate)
-    return pd.concat([gaps, report], axis=1)
+    return pd.concat([pd.DataFrame(gaps, columns=list(GAP_COLUMNS)), report], axis=1)
 
 
-def _repaired(loops, max_gap):
-    """Loops with short gaps bridged and the longest stretch kept (as :func:`scan_files`
-    does), and what was done; a loop holding inf is left as it is (it gets not_finite)."""
+def _gap_free(X):
+    """Lengths of ``X``'s loops if none misses a value (NaN or inf) before its end in a
+    channel it has, else None: then ``repair_gaps`` has nothing to bridge, split or cut."""
+    lengths = loop_lengths(X)
+    for x, n in zip(X, lengths):
+        if missing_samples(x, n)[1].any() or np.isinf(x[:n]).any():
+            return None
+    return lengths
+
+
+def repaired(loops, max_gap, usable=None):
+    """Loops with short gaps bridged and the longest stretch kept
+    (:func:`~sktiction._validation.repair_gaps`), and what was done, one row of
+    :data:`GAP_COLUMNS` per loop (NaN where nothing was repaired). Both scans repair this
+    way. Loops that hold inf (they get not_finite) or are not ``usable`` are left as they
+    are; gap-free loops skip ``repair_gaps`` with the answer it would give."""
     loops = np.asarray(loops, dtype=float)
-    n, m = loops.shape[:2]
-    out = np.full((n, m, 3), np.nan)
-    out[:, :, : loops.shape[2]] = loops
-    gaps = pd.DataFrame(np.nan, index=range(n), columns=list(GAP_COLUMNS))
-    good = np.flatnonzero(~np.isinf(out).any(axis=(1, 2)))
-    if good.size:
-        fixed, info = repair_gaps(out[good], max_gap=max_gap)
-        out[good] = fixed[:, :m]
-        gaps.iloc[good] = info[list(GAP_COLUMNS)].to_numpy(dtype=float)
-    return out, gaps
+    n, m, k = loops.shape
+    if k < 3:
+        loops = np.concatenate([loops, np.full((n, m, 3 - k), np.nan)], axis=2)
+    gaps = np.full((n, len(GAP_COLUMNS)), np.nan)
+    ok = ~np.isinf(loops).any(axis=(1, 2))
+    idx = np.flatnonzero(ok if usable is None else ok & usable)
+    if not idx.size:
+        return loops, gaps
+    lengths = _gap_free(loops[idx])
+    if lengths is not None:  # most records: what repair_gaps would say, without its work
+        info = {"n_bridged": 0, "n_gaps_split": 0, "kept_start": 0, "kept_stop": lengths}
+    else:
+        fixed, info = repair_gaps(loops[idx], max_gap=max_gap)
+        loops = loops.copy()
+        loops[idx] = fixed[:, :m]
+    for j, col in enumerate(GAP_COLUMNS):
+        gaps[idx, j] = np.asarray(info[col], dtype=float)
+    return loops, gaps
 
 
 def scan_loops(
