@@ -47,23 +47,28 @@ def _check_numeric_columns(X, name):
             raise TypeError(f"{name} has non-numeric columns: {', '.join(bad)}.")
 
 
-_CHANNEL_NAMES = ("pv", "op", "sp")
-
-
 def _check_not_one_loop_table(X, name):
     """A 2-D table with PV/OP/SP columns is one loop, not one PV record per row: read as
-    rows it would silently become thousands of loops of three samples."""
+    rows it would silently become thousands of loops of three samples. Columns are named
+    as the file readers name them (``FIC101.PV``, ``OP [%]``, ``MV``, ``y``)."""
     columns = getattr(X, "columns", None)
     if columns is None or np.ndim(X) != 2:
         return
-    named = [c for c in columns if str(c).strip().lower() in _CHANNEL_NAMES]
-    if named:
-        raise ValueError(
-            f"{name} is a table with channel columns {named}: one loop, whereas 2-D input "
-            "means one PV record per row. Pass one loop as "
-            f"{name}[['PV', 'OP', 'SP']].to_numpy()[None] (shape (1, n_samples, 3)), or read "
-            "files with sktiction.datasets.read_loop_file."
-        )
+    from .datasets._measured import channel_key  # the readers' names; imported late
+
+    keys = {c: channel_key(c) for c in columns}
+    if not any(k in ("pv", "op") for k in keys.values()):
+        return
+    named = [c for c, k in keys.items() if k in ("pv", "op", "sp")]
+    # the first column of each channel, in the order PV, OP, SP
+    order = [next(c for c in named if keys[c] == k) for k in ("pv", "op", "sp")
+             if k in keys.values()]  # fmt: skip
+    raise ValueError(
+        f"{name} is a table with channel columns {named}: one loop, whereas 2-D input "
+        f"means one PV record per row. Pass one loop as {name}[{order}].to_numpy()[None] "
+        "(shape (1, n_samples, 2 or 3), channels PV, OP, SP), or read files with "
+        "sktiction.datasets.read_loop_file."
+    )
 
 
 def check_loops(X, *, name="X"):

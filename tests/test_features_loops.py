@@ -1,5 +1,7 @@
 """The per-loop plumbing every transformer shares (``features/_loops.py``)."""
 
+import re
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -172,3 +174,22 @@ def test_a_table_with_channel_columns_is_refused_as_many_loops():
         check_loops(one)
     assert check_loops(one.to_numpy()[None]).shape == (1, 300, 3)  # as the message says
     assert check_loops(pd.DataFrame(X[:, :, 0])).shape == (1, 300, 3)  # PV rows still fine
+
+
+@pytest.mark.parametrize(
+    "columns, order",
+    [
+        (["FIC101.PV", "FIC101.OP", "FIC101.SP"], ["FIC101.PV", "FIC101.OP", "FIC101.SP"]),
+        (["SV", "OUT", "PV [m3/h]"], ["PV [m3/h]", "OUT", "SV"]),
+        (["time", "y", "u"], ["y", "u"]),
+    ],
+)
+def test_a_table_with_the_readers_channel_names_is_refused_with_its_own_columns(columns, order):
+    """Historian names (tag prefixes, units, aliases) mark a one-loop table too, and the
+    message names the table's own columns in the order PV, OP, SP."""
+    X, _ = make_loops(1, n_samples=200, random_state=0)
+    with pytest.raises(ValueError, match=re.escape(f"X[{order}].to_numpy()[None]")):
+        check_loops(pd.DataFrame(X[0], columns=columns))
+    # columns that name no channel (or only the time and a setpoint) are PV records
+    for names in (["a", "b", "c"], ["t", "sp", "x"]):
+        assert check_loops(pd.DataFrame(X[0], columns=names)).shape == (200, 3, 3)

@@ -159,6 +159,13 @@ def _split(name):
     return None
 
 
+def channel_key(name):
+    """``"pv"``, ``"op"``, ``"sp"``, ``"time"`` or ``"mode"``: what a column named
+    ``name`` holds for the readers, or ``None``."""
+    hit = _split(name)
+    return None if hit is None else hit[1]
+
+
 def _plans(names, channels):
     """Whether :func:`_plan` finds a loop among ``names``."""
     try:
