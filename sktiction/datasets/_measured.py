@@ -12,7 +12,8 @@ Three layers:
 
 File layouts are in :mod:`sktiction.datasets._readers`, time columns in
 :mod:`sktiction.datasets._timestamps`. Columns are found by name, case-insensitively, also
-after a ``<tag>.``, ``<tag>_`` or ``<tag> `` prefix; a file with several prefixes
+after a ``<tag>.``, ``<tag>_``, ``<tag> ``, ``<tag>:`` or ``<tag>/`` prefix (a value field
+``.CV`` or ``.Value`` after a channel name is dropped); a file with several prefixes
 (``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix.
 """
 
@@ -29,7 +30,7 @@ from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
 from ._readers import FileError, file_kind, open_table
-from ._timestamps import TIME_UNITS, TimeError, count, parse_times, regularise
+from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
 __all__ = ["list_loop_files", "read_loop_file", "read_loops"]
 
@@ -40,7 +41,7 @@ STATUS_UNSUPPORTED = "unsupported"
 _ALIASES = {
     "pv": ("pv", "y", "cv", "meas", "measurement", "process_variable"),
     "op": ("op", "mv", "out", "co", "output", "controller_output", "u"),
-    "sp": ("sp", "sv", "setpoint", "set_point", "r", "ref"),
+    "sp": ("sp", "sv", "spt", "setpoint", "set_point", "r", "ref"),
     "time": (
         "time", "t", "t_s", "time_s", "t_ms", "time_ms", "t_min", "time_min", "t_h", "time_h",
         "timestamp", "datetime", "date_time", "date",
@@ -50,9 +51,15 @@ _ALIASES = {
 _UNIT = re.compile(r"\s*[\[(][^\])]*[\])]$")
 _TIME_UNIT = re.compile(r"[\[(_ ](ms|min|h)[\])]?$")
 _TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
+# Between a tag and a channel name: FIC1.PV, FIC1_PV, FIC1 PV, FIC1:PV, LIC1/PID1/PV.
+_TAG_SEPARATORS = (".", "_", " ", ":", "/")
+# A value field after a channel name (DeltaV PV.CV, OUT.CV; PI PV.Value).
+_FIELD = re.compile(r"[.:](cv|value)$", re.IGNORECASE)
 _KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}
 _LOOP_KEYS = ("pv", "op", "sp", "mode")
 _GROUPED = r"\s*[-+]?\d{1,3}(?:\.\d{3})+(?:,\d*)?\s*"  # 1.500,25 or 12.000
+_US_GROUPED = r"\s*[-+]?\d{1,3}(?:,\d{3})+(?:\.\d*)?\s*"  # 1,500.25 or 12,000
+_US_SURE = r"\s*[-+]?\d{1,3}(?:(?:,\d{3}){2,}(?:\.\d*)?|,\d{3}\.\d*)\s*"  # 1,500.2 1,000,000
 # Text in a MODE column: automatic (and cascade) count as closed loop.
 _MODE_TEXT = {"auto": 1.0, "aut": 1.0, "cas": 1.0, "cascade": 1.0, "man": 0.0, "manual": 0.0}
 # Text a historian writes for a missing value; read as NaN without being counted as status.
@@ -148,10 +155,16 @@ def _split(name):
     A unit in brackets at the end (``FIC1.PV [m3/h]``, ``OP (%)``) is ignored.
     """
     name = _UNIT.sub("", str(name).strip())
+    field = _FIELD.search(name)
+    if field is not None:
+        # DeltaV ``LIC101/PID1/OUT.CV``: the value field of the OUT channel, not a PV
+        inner = _split(name[: field.start()])
+        if inner is not None and inner[1] in _LOOP_KEYS:
+            return inner
     low = name.lower()
     if low in _KEY_OF:
         return "", _KEY_OF[low]
-    for sep in (".", "_", " "):
+    for sep in _TAG_SEPARATORS:
         if sep in low:
             head, tail = low.rsplit(sep, 1)
             if tail.strip() in _KEY_OF:
@@ -252,11 +265,15 @@ def _plan(names, channels):
 def _numeric(col, name, decimal, strict):
     """Column as float; historian status text becomes NaN and is counted.
 
-    Returns ``(values, counts)`` with ``counts`` a Counter of the text values replaced.
+    Returns ``(values, counts, note)`` with ``counts`` a Counter of the text values
+    replaced and ``note`` saying how thousands separators were read ("" if none).
     """
     if col.dtype.kind in "fiub":
-        return col.to_numpy(dtype=float, na_value=np.nan), Counter()
+        return col.to_numpy(dtype=float, na_value=np.nan), Counter(), ""
     text = col.astype(object)
+    note = ""
+    if decimal == ".":
+        text, note = _us_grouping(col, name)
     if decimal == ",":
         text = col.astype(str)
         # with a decimal comma a point groups thousands (1.500,25): only where it does so
@@ -267,7 +284,7 @@ def _numeric(col, name, decimal, strict):
     values = pd.to_numeric(text, errors="coerce")
     bad = values.isna().to_numpy() & col.notna().to_numpy()
     if not bad.any():
-        return values.to_numpy(dtype=float), Counter()
+        return values.to_numpy(dtype=float), Counter(), note
     idx = np.flatnonzero(bad)
     raw = col.iloc[idx].astype(str).str.strip()
     missing = raw.str.lower().isin(_MISSING_TEXT).to_numpy()
@@ -277,7 +294,29 @@ def _numeric(col, name, decimal, strict):
             f"column {name!r} is not numeric: row {idx[0] + 1} of the data holds "
             f"{col.iloc[idx[0]]!r} ({len(idx)} such values)"
         )
-    return values.to_numpy(dtype=float), Counter(raw.tolist())
+    return values.to_numpy(dtype=float), Counter(raw.tolist()), note
+
+
+def _us_grouping(col, name):
+    """Text column with US thousands separators (``1,003.729``) removed, and a note.
+
+    Only where no cell can be a decimal comma: every cell holding a comma is grouped in
+    threes (``d,ddd[.dd]``), and some cell shows both a comma and a decimal point
+    (``1,003.7``) or several groups (``1,000,000``). ``"1,500"`` could be 1.5 written with
+    a decimal comma, so a column whose only commas are such cells stays as it is (text).
+    """
+    text = col.astype(str)
+    comma = text.str.contains(",", regex=False).to_numpy() & col.notna().to_numpy()
+    if not comma.any():
+        return col.astype(object), ""
+    with_comma = text[comma]
+    if not with_comma.str.fullmatch(_US_GROUPED).all():
+        return col.astype(object), ""
+    if not with_comma.str.fullmatch(_US_SURE).any():
+        return col.astype(object), ""
+    text = text.where(~comma, text.str.replace(",", "", regex=False)).where(col.notna(), None)
+    n = count(int(comma.sum()), "value")
+    return text, f"thousands separators ',' in {name!r} removed ({n})"
 
 
 def _mode(col):
@@ -354,6 +393,13 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
         if not ok.all():
             notes.append(f"{count(int((~ok).sum()), 'row')} without a readable time skipped")
             t, values, raw = t[ok], values[ok], raw[ok]
+        coarse = coarse_stamps(t, values, ts=ts, strict=strict)
+        if coarse is not None:
+            t, note = coarse
+            if pd.notna(start):
+                start += pd.Timedelta(seconds=float(t[0]))
+            t = t - t[0]
+            notes.append(note)
         if strict:
             _strict_order(t, raw)
         hold = [4 * j + 3 for j in range(len(loops))]
@@ -443,7 +489,9 @@ def _channel_values(frame, loops, names, decimal, strict):
             if key == "mode":
                 values[:, 4 * j + k] = _mode(col)
                 continue
-            values[:, 4 * j + k], counts = _numeric(col, names[g[key]], decimal, strict)
+            values[:, 4 * j + k], counts, note = _numeric(col, names[g[key]], decimal, strict)
+            if note:
+                loop_notes[j].append(note)
             if counts:
                 loop_notes[j].append(_status_note(counts, key.upper()))
     return values, loop_notes
@@ -501,8 +549,10 @@ def read_loop_file(
         Column names to use instead of the automatic match, keyed by ``"pv"``, ``"op"``,
         ``"sp"``, ``"time"``, ``"mode"``, e.g. ``{"pv": "FIC101.PV", "op": "FIC101.OP"}``;
         the file then gives one loop. Automatic matching compares names
-        case-insensitively, also after a ``<tag>.``, ``<tag>_`` or ``<tag> `` prefix: PV
-        from PV/Y/CV, OP from OP/MV/OUT/CO, SP from SP/SV/SETPOINT, time from
+        case-insensitively, also after a ``<tag>.``, ``<tag>_``, ``<tag> ``, ``<tag>:`` or
+        ``<tag>/`` prefix (a field ``.CV`` or ``.Value`` after a channel is dropped:
+        ``LIC1/PID1/OUT.CV`` is the OP of ``LIC1/PID1``): PV from PV/Y/CV, OP from
+        OP/MV/OUT/CO, SP from SP/SV/SPT/SETPOINT, time from
         TIME/T/T_S/TIMESTAMP/DATETIME/DATE (a DATE and a TIME column are joined), mode
         from MODE. A unit in brackets ending a name is ignored (``FIC1.PV [m3/h]``), except
         that relative times named in ``[ms]``, ``[min]``, ``[h]`` (or ``_ms``, ``_min``,

@@ -379,18 +379,43 @@ def _open_parquet(path):
     except ImportError as exc:
         raise _missing_extra("parquet", "pyarrow") from exc
     try:
-        names = list(pq.read_schema(path).names)
+        schema = pq.read_schema(path)
     except Exception as exc:  # pyarrow raises its own error types for corrupt files
         raise FileError(f"not a readable Parquet file ({type(exc).__name__}: {exc})") from exc
+    stored = list(schema.names)
+    names, notes = _parquet_index(schema, stored)
 
     def reader(positions):
-        frame = pd.read_parquet(path, columns=[names[p] for p in positions])
+        # pyarrow without the pandas metadata: an index (``df.set_index("time")``) is then
+        # a column like the others instead of being set aside, which the positions need
+        table = pq.read_table(path, columns=[stored[p] for p in positions])
+        frame = table.to_pandas(ignore_metadata=True)
         frame.columns = positions
         return frame
 
     info = {"format": "parquet", "tag": None, "time_format": None, "declared_rows": None}
-    info["notes"] = []
+    info["notes"] = notes
     return Table(names, info, reader)
+
+
+def _parquet_index(schema, names):
+    """Column names of a Parquet file with its pandas index read as a column: an unnamed
+    datetime index (``__index_level_0__``) is named ``time``; a named one keeps its name."""
+    try:
+        index = (schema.pandas_metadata or {}).get("index_columns", [])
+    except Exception:  # noqa: BLE001 - metadata of another writer: the names as stored
+        return names, []
+    index = [c for c in index if isinstance(c, str) and c in names]
+    if not index:
+        return names, []
+    names, read = list(names), []
+    for col in index:
+        i = names.index(col)
+        if col.startswith("__index_level_") and str(schema.field(i).type).startswith("timestamp"):
+            if "time" not in [n.lower() for n in names]:
+                names[i] = "time"
+        read.append(names[i])
+    return names, [f"index {', '.join(read)} read as a column"]
 
 
 def open_table(path, kind, accept=None):

@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 import pandas as pd
 
-__all__ = ["TIME_UNITS", "count", "parse_times", "regularise"]
+__all__ = ["TIME_UNITS", "coarse_stamps", "count", "parse_times", "regularise"]
 
 TIME_UNITS = ("auto", "s", "epoch_s", "epoch_ms", "epoch_us", "epoch_ns", "excel")
 _EXCEL_ORIGIN = pd.Timestamp("1899-12-30")  # serial day 0 of Excel's 1900 date system
@@ -163,6 +163,46 @@ def _clock_back(stamps, notes):
     return stamps
 
 
+def _clock_forward(stamps, notes):
+    """Naive local time skips an hour when daylight saving time starts: one step forward
+    of an hour plus a sample, from the small hours of a Sunday in March, April (north),
+    September or October (south), every other step regular. The rows after the jump are
+    read an hour earlier, so the skipped hour is not a gap. Anything else (a jump on
+    another day or hour, other gaps or steps back in the file) is left as it is: a real
+    hour of missing data must stay a gap."""
+    ok = stamps.notna().to_numpy()
+    ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)[ok]
+    dt = np.diff(ns) / 1e9
+    if dt.size < 3 or (dt <= 0).any():
+        return stamps
+    step = float(np.median(dt))
+    jump = np.flatnonzero(np.abs(dt - step) > 0.01 * step)
+    if jump.size != 1 or not 0 < step < 900 or abs(dt[jump[0]] - 3600 - step) > 0.01 * step:
+        return stamps
+    before, at = pd.Timestamp(int(ns[jump[0]])), pd.Timestamp(int(ns[jump[0] + 1]))
+    if not (at.weekday() == 6 and at.month in (3, 4, 9, 10) and before.hour < 3
+            and at.hour < 4):  # fmt: skip
+        return stamps
+    i = np.flatnonzero(ok)[jump[0] + 1]
+    later = np.arange(len(stamps)) >= i
+    stamps = stamps.where(~later, stamps - pd.Timedelta(hours=1))
+    notes.append(f"clock set forward an hour at {at} (daylight saving time starting, local "
+                 "time without offset): later rows read an hour earlier")  # fmt: skip
+    return stamps
+
+
+def _irregular(stamps):
+    """Steps of ``stamps`` that go back or differ from the median forward step by more
+    than 1% (repeated stamps are left to the caller)."""
+    ns = stamps.dropna().to_numpy(dtype="datetime64[ns]").astype(np.int64)
+    dt = np.diff(ns).astype(float)
+    forward = dt[dt > 0]
+    if len(forward) == 0:
+        return int((dt < 0).sum())
+    step = np.median(forward)
+    return int((dt < 0).sum() + (np.abs(forward - step) > 0.01 * step).sum())
+
+
 def _text_times(raw, time_format):
     """Parse text (or datetime objects) to datetimes; return (stamps, notes)."""
     strings = isinstance(raw.dtype, pd.StringDtype) or raw.map(_is_text).all()
@@ -215,13 +255,20 @@ def _text_times(raw, time_format):
         elif fmt != time_format and _fits(sample, other):
             # the sample allows both orders; the whole column may not (a 13th day)
             swapped = _parse_all(raw, other, clean)
-            if swapped.isna().sum() == stamps.isna().sum():
-                notes.append("dates could be day/month or month/day: read day first")
+            if swapped.isna().sum() == stamps.isna().sum():  # both orders read every date
+                if _irregular(swapped) < _irregular(stamps):
+                    # day first would make every midnight a jump of a month (or a step
+                    # back): the order giving the more regular time axis is the file's
+                    notes.append("dates could be day/month or month/day: read month first "
+                                 "(day first gives an irregular time axis)")  # fmt: skip
+                    stamps, fmt = swapped, other
+                else:
+                    notes.append("dates could be day/month or month/day: read day first")
     if getattr(stamps.dt, "tz", None) is not None:
         stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
         notes.append("time zone offsets converted to UTC")
     elif not time_only:
-        stamps = _clock_back(stamps, notes)
+        stamps = _clock_forward(_clock_back(stamps, notes), notes)
     if time_only:
         # Time of day only: a step back of more than 12 h is midnight passing.
         ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)
@@ -307,6 +354,59 @@ default="auto"
     if any(n.startswith("time of day") for n in notes):
         return t, pd.NaT, notes  # no date: the 1900-01-01 of the parser is not a start
     return t, pd.Timestamp(first, unit="ns"), notes
+
+
+def coarse_stamps(t, values, ts=None, strict=False):
+    """Times of rows whose timestamps are coarser than the rows, or None.
+
+    An export that writes 10 s samples as ``hh:mm`` gives runs of about six rows per
+    stamp. De-duplicating would keep one row in six and call the file 60 s data, so when
+    most rows share their stamp with a neighbour, in time order, and are not copies of
+    each other (a row exported twice is a duplicate, left to :func:`regularise`):
+
+    * with ``ts`` given, the rows are read in order at ``ts``;
+    * else, when every step between stamps is the same and the runs between the first
+      and the last are of equal length (within one row), the rows are read in order at
+      the mean interval, which is what the stamps say once their resolution is taken
+      into account; only the phase within the first stamp is unknown, which moves the
+      start by less than one stamp and does not change the samples or their spacing;
+    * else (uneven runs: irregular or missing rows, which reading in order would hide)
+      a :class:`TimeError` names the cause and asks for ``ts``.
+
+    Returns ``(t, note)``, or None when the stamps are not coarse; ``t[0]`` is after 0
+    when the first stamp holds fewer rows than the others (it was cut at its start).
+    With ``strict=True`` coarse stamps are an error.
+    """
+    n = len(t)
+    dt = np.diff(t)
+    if n < 4 or (dt < 0).any() or (dt == 0).mean() <= 0.5:
+        return None
+    same = dt == 0
+    v = np.asarray(values, dtype=float).reshape(n, -1)
+    copies = ((v[1:] == v[:-1]) | (np.isnan(v[1:]) & np.isnan(v[:-1]))).all(axis=1)
+    if copies[same].mean() >= 0.5 or (same.all() and ts is None):
+        return None  # rows exported twice (not finer samples), or a single stamp
+    starts = np.concatenate([[0], np.flatnonzero(~same) + 1])
+    runs = np.diff(np.append(starts, n))
+    steps = dt[~same]
+    k = float(np.median(runs))
+    res = float(np.median(steps)) if len(steps) else 0.0
+    what = (f"timestamps have a resolution of {res:g} s, coarser than the rows "
+            f"(about {k:g} rows per stamp)")  # fmt: skip
+    if ts is not None:
+        return ts * np.arange(n), f"{what}: rows read in order at ts={ts:g} s"
+    inner = runs[1:-1]
+    even = (
+        len(inner) >= 2 and inner.max() - inner.min() <= 1
+        and np.abs(steps - res).max() <= 0.01 * res and runs[0] <= inner.max()
+        and runs[-1] <= inner.max()
+    )  # fmt: skip
+    if strict or not even:
+        raise TimeError(f"{what}, {'' if even else 'with uneven runs, '}so the time of each "
+                        "row is unknown: pass ts= to read the rows in order")  # fmt: skip
+    fine = (t[starts[-1]] - t[starts[1]]) / (starts[-1] - starts[1])
+    t = t[starts[1]] + fine * (np.arange(n) - starts[1])
+    return t, f"{what}: rows read in order at {fine:g} s"
 
 
 def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.0):

@@ -1,0 +1,212 @@
+"""Exports seen in plants: US thousands, a Parquet time index, Foxboro and DeltaV names,
+timestamps coarser than the rows, month-first dates and the spring DST change."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sktiction.datasets import read_loop_file
+from sktiction.datasets._measured import _split
+
+
+def _times(start, n, step="10s"):
+    return pd.date_range(start, periods=n, freq=step)
+
+
+def _frame(n=60, start="2024-06-03 23:55:00"):
+    rng = np.random.default_rng(0)
+    return pd.DataFrame({
+        "Timestamp": _times(start, n).strftime("%Y-%m-%d %H:%M:%S"),
+        "FIC1.PV": 990 + rng.normal(0, 20, n).cumsum() / 5, "FIC1.OP": np.linspace(40, 60, n),
+    })  # fmt: skip
+
+
+def _meta(path, **kw):
+    data = read_loop_file(path, **kw)
+    return data, data.meta.iloc[0]
+
+
+# ---- 1. US thousands separators ------------------------------------------------------------
+
+
+@pytest.mark.parametrize("sep", [",", ";", "\t"])
+def test_us_thousands_separators_are_numbers(tmp_path, sep):
+    df = _frame()
+    plain = df["FIC1.PV"].round(3)
+    df["FIC1.PV"] = [f"{v:,.3f}" for v in plain]
+    df["FIC1.SP"] = "1,000.0"
+    assert (plain > 1000).any() and (plain < 1000).any()
+    path = tmp_path / "us.csv"
+    df.to_csv(path, sep=sep, index=False)
+    data, meta = _meta(path)
+    assert meta["status"] == "ok" and meta["n_nan"] == 0
+    np.testing.assert_allclose(data.X[0, :, 0], plain)
+    np.testing.assert_allclose(data.X[0, :, 2], 1000.0)
+    assert "thousands separators" in meta["reason"]
+
+
+def test_decimal_comma_is_not_read_as_thousands(tmp_path):
+    path = tmp_path / "eu.csv"
+    path.write_text("t;PV;OP\n0;1,5;1,250\n10;1,6;1,375\n20;1.500,25;1,5\n")
+    data, meta = _meta(path)
+    np.testing.assert_allclose(data.X[0, :, 0], [1.5, 1.6, 1500.25])
+    np.testing.assert_allclose(data.X[0, :, 1], [1.25, 1.375, 1.5])
+    # comma-separated with quoted "1,500" only: could be a decimal comma, so not a number
+    path = tmp_path / "quoted.csv"
+    path.write_text('t,PV,OP\n0,"1,500",1\n10,"1,250",2\n20,"2,000",3\n')
+    data, meta = _meta(path)
+    assert np.isnan(data.X[0, :, 0]).all()
+
+
+# ---- 2. Parquet with the time as index -----------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["Timestamp", None])
+def test_parquet_time_index_is_read_as_a_column(tmp_path, name):
+    pytest.importorskip("pyarrow")
+    df = _frame()
+    df.index = pd.DatetimeIndex(pd.to_datetime(df.pop("Timestamp")), name=name)
+    path = tmp_path / "dt.parquet"
+    df.to_parquet(path)
+    data, meta = _meta(path)
+    assert meta["status"] == "ok", meta["reason"]
+    assert meta["ts"] == 10.0 and meta["n_samples"] == 60
+    assert meta["start"] == pd.Timestamp("2024-06-03 23:55:00")
+    np.testing.assert_allclose(data.X[0, :, 0], df["FIC1.PV"])
+
+
+# ---- 3. historian column names -------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("name", "expected"),
+    [
+        ("FIC101.SPT", ("FIC101", "sp")),
+        ("LIC101/PID1/PV.CV", ("LIC101/PID1", "pv")),
+        ("LIC101/PID1/OUT.CV", ("LIC101/PID1", "op")),
+        ("LIC101/PID1/SP.CV", ("LIC101/PID1", "sp")),
+        ("FIC101.PV.Value", ("FIC101", "pv")),
+        ("FIC101.CV", ("FIC101", "pv")),
+        ("FIC101:PV", ("FIC101", "pv")),
+        ("FIC101:OP", ("FIC101", "op")),
+    ],
+)
+def test_historian_channel_names(name, expected):
+    assert _split(name) == expected
+
+
+def test_deltav_paths_make_one_loop(tmp_path):
+    df = _frame()
+    df["SP"] = 1000.0
+    df.columns = ["Timestamp", "LIC101/PID1/PV.CV", "LIC101/PID1/OUT.CV", "LIC101/PID1/SP.CV"]
+    path = tmp_path / "deltav.csv"
+    df.to_csv(path, index=False)
+    data, meta = _meta(path)
+    assert data.X.shape == (1, 60, 3) and meta["tag"] == "LIC101/PID1"
+    assert not np.isnan(data.X).any()
+
+
+def test_foxboro_setpoint(tmp_path):
+    df = _frame()
+    df["PIC1.SPT"] = 5.0
+    df.columns = ["Timestamp", "PIC1.MEAS", "PIC1.OUT", "PIC1.SPT"]
+    path = tmp_path / "foxboro.csv"
+    df.to_csv(path, index=False)
+    data, _ = _meta(path)
+    np.testing.assert_allclose(data.X[0, :, 2], 5.0)
+
+
+# ---- 4. timestamps coarser than the rows ---------------------------------------------------
+
+
+def _no_seconds(tmp_path, skip=0, drop=()):
+    df = _frame(n=90)
+    t = _times("2024-06-03 23:55:00", 90)
+    df["Timestamp"] = t.strftime("%d/%m/%Y %H:%M")
+    df = df.iloc[skip:].drop(index=list(drop))
+    path = tmp_path / "minutes.csv"
+    df.to_csv(path, index=False)
+    return path, df
+
+
+def test_coarse_timestamps_read_rows_in_order(tmp_path):
+    path, df = _no_seconds(tmp_path)
+    data, meta = _meta(path)
+    assert meta["status"] == "ok" and meta["ts"] == 10.0 and meta["n_samples"] == 90
+    np.testing.assert_allclose(data.X[0, :, 0], df["FIC1.PV"])
+    assert "about 6 rows per stamp" in meta["reason"]
+
+
+def test_coarse_timestamps_partial_first_minute(tmp_path):
+    path, df = _no_seconds(tmp_path, skip=3)
+    data, meta = _meta(path)
+    assert meta["ts"] == 10.0 and meta["n_samples"] == 87
+    assert meta["start"] == pd.Timestamp("2024-06-03 23:55:30")
+
+
+def test_coarse_timestamps_uneven_runs_are_an_error(tmp_path):
+    path, _ = _no_seconds(tmp_path, drop=range(20, 24))
+    data, meta = _meta(path)
+    assert meta["status"] == "error"
+    assert "coarser than the rows" in meta["reason"] and "ts=" in meta["reason"]
+    data, meta = _meta(path, ts=10)
+    assert meta["status"] == "ok" and meta["n_samples"] == 86
+
+
+def test_rows_exported_twice_are_still_duplicates(tmp_path):
+    df = _frame(n=30)
+    path = tmp_path / "twice.csv"
+    df.loc[df.index.repeat(2)].to_csv(path, index=False)
+    data, meta = _meta(path)
+    assert meta["n_samples"] == 30 and "duplicated timestamp" in meta["reason"]
+
+
+# ---- 5. month-first dates ------------------------------------------------------------------
+
+
+def test_month_first_dates_crossing_midnight(tmp_path):
+    df = _frame()
+    df["Timestamp"] = _times("2024-06-03 23:55:00", 60).strftime("%m/%d/%Y %H:%M:%S")
+    path = tmp_path / "us_dates.csv"
+    df.to_csv(path, index=False)
+    data, meta = _meta(path)
+    assert meta["status"] == "ok" and meta["ts"] == 10.0 and meta["n_samples"] == 60
+    assert meta["start"] == pd.Timestamp("2024-06-03 23:55:00")
+    assert "read month first" in meta["reason"]
+
+
+def test_day_first_dates_crossing_midnight_stay_day_first(tmp_path):
+    df = _frame()
+    df["Timestamp"] = _times("2024-06-03 23:55:00", 60).strftime("%d/%m/%Y %H:%M:%S")
+    path = tmp_path / "eu_dates.csv"
+    df.to_csv(path, index=False)
+    _, meta = _meta(path)
+    assert meta["start"] == pd.Timestamp("2024-06-03 23:55:00")
+    assert "read day first" in meta["reason"]
+
+
+# ---- 6. spring-forward DST change ----------------------------------------------------------
+
+
+def _dst(tmp_path, day):
+    t = _times(f"{day} 01:50:00", 100)
+    t = t.where(t < pd.Timestamp(f"{day} 02:00:00"), t + pd.Timedelta(hours=1))
+    df = _frame(n=100)
+    df["Timestamp"] = t.strftime("%Y-%m-%d %H:%M:%S")
+    path = tmp_path / "dst.csv"
+    df.to_csv(path, index=False)
+    return path
+
+
+@pytest.mark.parametrize("day", ["2024-03-31", "2024-03-10", "2024-10-06"])
+def test_spring_forward_is_not_a_gap(tmp_path, day):
+    data, meta = _meta(_dst(tmp_path, day))
+    assert meta["status"] == "ok" and meta["n_samples"] == 100
+    assert not np.isnan(data.X[0, :, 0]).any()
+    assert "clock set forward an hour" in meta["reason"]
+
+
+def test_hour_missing_on_a_weekday_stays_a_gap(tmp_path):
+    _, meta = _meta(_dst(tmp_path, "2024-03-28"))  # a Thursday: data really missing
+    assert "clock set forward" not in meta["reason"]
+    assert meta["status"] == "error" or meta["n_samples"] > 100
