@@ -78,7 +78,27 @@ def _read(path, channels, ts, max_gap):
         X, gaps = repaired(X, max_gap, readable)
         for row, values in zip(rows, gaps.tolist()):
             row.update(zip(GAP_COLUMNS, values))
+            _note_repairs(row)
     return X, rows, readable
+
+
+def _note_repairs(row):
+    """Say in the loop's input notes what the scan changed before analysing it: a hold
+    undone (and the sample time it implies), spikes replaced, a stretch left out."""
+    step, spikes = row["rows_per_value"], row["n_spikes"]
+    start, stop, n = row["kept_start"], row["kept_stop"], row.get("n_samples", np.nan)
+    notes = [row["reason"]] if row.get("reason") else []
+    if step > 1:
+        row["ts"] = row["ts"] * step
+        notes.append(f"each value repeated on {step:.0f} rows (export grid finer than the "
+                     f"stored data): read one row in {step:.0f}, sample time {row['ts']:g} s")
+    if spikes > 0:
+        notes.append(f"{spikes:.0f} spike sample{'s' if spikes > 1 else ''} (far from both "
+                     "neighbours) replaced by a line between them")
+    if np.isfinite(start) and (start > 0 or stop < n):
+        notes.append(f"analysed rows {start + 1:.0f}-{stop:.0f} of {n:.0f}: the longest "
+                     "stretch between gaps too long to bridge")
+    row["reason"] = "; ".join(notes)
 
 
 def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):

@@ -1,0 +1,136 @@
+"""Historian artefacts the scan undoes: spikes and regular holds (sktiction._cleaning),
+hidden in loops whose verdict is known, and what the report says about them."""
+
+import numpy as np
+import pytest
+
+from sktiction._cleaning import hold_step, remove_spikes, spike_mask
+from sktiction.datasets import make_loops
+from sktiction.reports.scan import GAP_COLUMNS, repaired
+
+
+def _sine(n=600, period=50.0, noise=0.05, seed=0):
+    rng = np.random.default_rng(seed)
+    return np.sin(2 * np.pi * np.arange(n) / period) + rng.normal(0, noise, n)
+
+
+@pytest.mark.parametrize("width", [1, 2, 3])
+@pytest.mark.parametrize("value", [-9999.0, 0.0, 25.0])
+def test_a_spike_of_one_to_three_samples_is_found_and_nothing_else(width, value):
+    x = _sine() + 100.0  # a PV of about 100: 0 is a "Bad" value too
+    x[300 : 300 + width] = value
+    assert np.flatnonzero(spike_mask(x)).tolist() == list(range(300, 300 + width))
+
+
+def test_steps_cycles_noise_and_wide_excursions_are_not_spikes():
+    rng = np.random.default_rng(1)
+    square = np.repeat(np.tile([0.0, 1.0], 10), 30) + rng.normal(0, 0.02, 600)  # slips
+    assert not spike_mask(square).any()
+    for seed in range(20):  # heavy noise and fast cycles (5 samples per cycle)
+        assert not spike_mask(np.random.default_rng(seed).normal(size=5000)).any()
+        assert not spike_mask(_sine(period=5.0, noise=0.1, seed=seed)).any()
+    wide = _sine() + 100.0
+    wide[300:304] = 0.0  # four samples: a stretch, not a spike (gap repair's business)
+    assert not spike_mask(wide).any()
+    ramp = np.linspace(0, 1, 600)
+    ramp[200] = 5.0  # a spike on a ramp: the neighbours agree once the ramp is counted
+    assert np.flatnonzero(spike_mask(ramp)).tolist() == [200]
+
+
+def test_remove_spikes_draws_a_line_and_counts_what_it_replaced():
+    loop = np.stack([_sine() + 100.0, _sine(seed=1) + 50.0, np.full(600, 100.0)], axis=1)
+    clean = loop.copy()
+    loop[100, 0], loop[[400, 401], 1] = 0.0, 1e6
+    assert remove_spikes(loop, 600) == 3
+    np.testing.assert_allclose(loop[100, 0], (clean[99, 0] + clean[101, 0]) / 2)
+    np.testing.assert_allclose(loop[[400, 401], 1], np.interp([400, 401], [399, 402],
+                                                              clean[[399, 402], 1]))
+    untouched = np.ones(600, dtype=bool)
+    untouched[[100, 400, 401]] = False
+    np.testing.assert_array_equal(loop[untouched], clean[untouched])
+
+
+def test_a_regular_hold_is_found_with_its_phase_and_irregular_repeats_are_not():
+    rng = np.random.default_rng(2)
+    stored = np.stack([_sine(300), _sine(300, seed=3), np.full(300, np.nan)], axis=1)
+    held = np.repeat(stored, 3, axis=0)[1:]  # every value on 3 rows, first one cut
+    assert hold_step(held, len(held)) == (3, 2)
+    assert hold_step(stored, 300) == (1, 0)
+    compressed = stored.copy()
+    keep = rng.random(300) < 0.4  # a compression band: values repeated at random
+    compressed[~keep] = np.nan
+    for c in range(2):
+        x = compressed[:, c]
+        idx = np.flatnonzero(~np.isnan(x))
+        compressed[:, c] = x[idx[np.searchsorted(idx, np.arange(300), side="right") - 1]]
+    assert hold_step(compressed[5:], 295)[0] == 1
+
+
+def test_hidden_spike_and_hold_leave_the_scan_where_the_clean_loop_is():
+    """Hide a "Bad" value and a 3-fold export grid in simulated loops: repair finds them,
+    counts them, and gives back the clean loop (the held one read every third row)."""
+    X, _ = make_loops(6, n_samples=1500, world="classic", random_state=4)
+    clean, gaps = repaired(X, "auto")
+    assert (gaps[:, GAP_COLUMNS.index("n_spikes")] == 0).all()
+    assert (gaps[:, GAP_COLUMNS.index("rows_per_value")] == 1).all()
+    dirty = X.copy()
+    dirty[:, 700, 0] = 0.0
+    fixed, gaps = repaired(dirty, "auto")
+    assert (gaps[:, GAP_COLUMNS.index("n_spikes")] == 1).all()
+    np.testing.assert_allclose(np.delete(fixed, 700, axis=1), np.delete(clean, 700, axis=1))
+    held = np.repeat(X[:, :500], 3, axis=1)
+    fixed, gaps = repaired(held, "auto")
+    assert (gaps[:, GAP_COLUMNS.index("rows_per_value")] == 3).all()
+    np.testing.assert_array_equal(fixed[:, :500], X[:, :500])
+    assert np.isnan(fixed[:, 500:]).all()
+    assert (gaps[:, GAP_COLUMNS.index("kept_stop")] == 1498).all()  # last row read: 1497
+
+
+def test_the_file_scan_says_what_it_repaired_in_the_loops_notes(tmp_path):
+    """A "Bad" value, a 2-fold export grid and a gap too long to bridge, each in its own
+    file: the report's input_reason says what was done, ts follows the rows read."""
+    import pandas as pd
+
+    from sktiction.reports import scan_files
+
+    class Spread:  # stand-in model: fast, and its answer a known function of PV
+        def predict_proba(self, X):
+            ptp = np.nanmax(X[:, :, 0], axis=1) - np.nanmin(X[:, :, 0], axis=1)
+            return np.column_stack([2 / (ptp + 2), ptp / (ptp + 2)])
+
+    k = np.arange(1200)
+    pv = 10 + np.clip(8 * np.sin(2 * np.pi * k / 100), -1, 1)
+    op = 50 - 0.05 * np.cumsum(pv - 10)
+    spiked = pv.copy()
+    spiked[625] = 0.0  # on a flat stretch (a slip edge is no place to tell a spike)
+    gapped = pv.copy()
+    gapped[300:330] = np.nan
+    for name, p, o in (("A_spike", spiked, op), ("B_held", np.repeat(pv[:600], 2),
+                       np.repeat(op[:600], 2)), ("C_gap", gapped, op)):  # fmt: skip
+        pd.DataFrame({"t": np.arange(1200), "PV": p, "OP": o}).to_csv(
+            tmp_path / f"{name}.csv", index=False)
+    report = scan_files(tmp_path, classifier=Spread()).set_index("file")
+    notes = report["input_reason"]
+    assert report.loc["A_spike.csv", "n_spikes"] == 1
+    assert "1 spike sample" in notes["A_spike.csv"]
+    assert report.loc["B_held.csv", ["rows_per_value", "ts"]].tolist() == [2, 2.0]
+    assert "read one row in 2, sample time 2 s" in notes["B_held.csv"]
+    assert "analysed rows 331-1200 of 1200" in notes["C_gap.csv"]
+    clean = pd.DataFrame({"t": np.arange(1200), "PV": pv, "OP": op})
+    clean.to_csv(tmp_path / "D_clean.csv", index=False)
+    again = scan_files(tmp_path, classifier=Spread()).set_index("file")
+    assert again.loc["D_clean.csv", "input_reason"] in ("", None) or pd.isna(
+        again.loc["D_clean.csv", "input_reason"])
+    assert again.loc["A_spike.csv", "stiction_probability"] == pytest.approx(
+        again.loc["D_clean.csv", "stiction_probability"])
+
+
+def test_a_setpoint_with_a_hole_is_a_gap_not_a_missing_setpoint():
+    from sktiction._validation import check_loops, loop_status
+
+    X, _ = make_loops(2, n_samples=800, world="classic", random_state=0)
+    X[0, 400, 2] = np.nan  # SP missing at one sample: not "no SP" (control error = -PV)
+    X[1, :, 2] = np.nan  # no SP at all: fine
+    assert loop_status(check_loops(X)).tolist() == ["nan_gap", "ok"]
+    fixed, gaps = repaired(X, "auto")
+    assert loop_status(check_loops(fixed)).tolist() == ["ok", "ok"]
