@@ -126,8 +126,12 @@ def check_loops(X, *, name="X"):
         raise ValueError(
             f"{name} must have 1 to 3 channels (PV, OP, SP in that order); got {n_channels}."
         )
-    if np.isinf(arr).any():
-        raise ValueError(f"{name} contains infinite values.")
+    infinite = np.isinf(arr).any(axis=(1, 2))
+    if infinite.any():
+        where = np.flatnonzero(infinite)
+        shown = ", ".join(map(str, where[:10])) + (", ..." if where.size > 10 else "")
+        raise ValueError(f"{name} contains infinite values (in {where.size} of {n_loops} "
+                         f"loops: {shown}); scan_loops gives those loops a status instead.")
     if n_channels < 3:
         pad = np.full((n_loops, n_samples, 3 - n_channels), np.nan)
         arr = np.concatenate([arr, pad], axis=2)
@@ -188,8 +192,8 @@ def loop_status(loops, *, min_samples=20, require_op=False):
     -------
     status : ndarray of str, shape (n_loops,)
         One of ``ok``, ``empty``, ``too_short``, ``nan_gap`` (NaN inside the
-        record, not only as end padding), ``constant`` (PV, or OP when required,
-        never moves) and ``missing_op``.
+        record, not only as end padding, in PV, or in OP or SP where the loop has
+        them), ``constant`` (PV, or OP when required, never moves) and ``missing_op``.
 
     Examples
     --------
@@ -204,12 +208,16 @@ def loop_status(loops, *, min_samples=20, require_op=False):
     for i, n in enumerate(lengths):
         pv = loops[i, :n, PV]
         op = loops[i, :n, OP]
+        sp = loops[i, :n, SP] if loops.shape[2] > SP else pv[:0]
         has_op = not np.isnan(loops[i, :, OP]).all()
+        # a setpoint with holes is a gap too: the control error would silently become -PV
+        has_sp = not np.isnan(sp).all() if sp.size else False
         if n == 0:
             out[i] = STATUS_EMPTY
         elif n < min_samples:
             out[i] = STATUS_TOO_SHORT
-        elif np.isnan(pv).any() or (has_op and np.isnan(op).any()):
+        elif (np.isnan(pv).any() or (has_op and np.isnan(op).any())
+              or (has_sp and np.isnan(sp).any())):  # fmt: skip
             out[i] = STATUS_NAN_GAP
         elif require_op and not has_op:
             out[i] = STATUS_MISSING_OP

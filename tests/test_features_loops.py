@@ -193,3 +193,10 @@ def test_a_table_with_the_readers_channel_names_is_refused_with_its_own_columns(
     # columns that name no channel (or only the time and a setpoint) are PV records
     for names in (["a", "b", "c"], ["t", "sp", "x"]):
         assert check_loops(pd.DataFrame(X[0], columns=names)).shape == (200, 3, 3)
+
+
+def test_infinite_values_are_refused_naming_the_loops_that_hold_them():
+    X, _ = make_loops(12, n_samples=100, random_state=0)
+    X[[3, 11], 50, 1] = np.inf
+    with pytest.raises(ValueError, match=r"infinite values \(in 2 of 12 loops: 3, 11\)"):
+        check_loops(X)
