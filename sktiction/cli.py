@@ -172,7 +172,19 @@ def _not_loop_files(report, table):
 
     index = names.str.lower().isin(INDEX_NAMES)
     plain = (suffix == "") | suffix.isin(_DOCUMENTS) | index
-    return (table["read"] == "unsupported") & plain
+    ours = table["read"] != "ok"  # among the failures: a scan's own output, scanned again
+    ours[ours] = report.loc[ours, "path"].map(_is_report).astype(bool)
+    return ((table["read"] == "unsupported") & plain) | ours
+
+
+def _is_report(path):
+    """Whether ``path`` is a CSV report of a scan (its header names our columns)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            header = f.readline()
+    except (OSError, TypeError):
+        return False
+    return "stiction_probability" in header and "verdict" in header
 
 
 def _console_table(report):
@@ -361,7 +373,8 @@ def _scan(args):
     if other.any():
         n = int(other.sum())
         print(f"{n} {'files are' if n > 1 else 'file is'} not loop data (a folder index, "
-              "documents or files without an extension; listed with the reason).",
+              "documents, files without an extension or an earlier scan's report; listed "
+              "with the reason).",
               file=sys.stderr)  # fmt: skip
     failed = int(((table["read"] != "ok") & ~other).sum())
     if failed:

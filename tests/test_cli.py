@@ -109,6 +109,16 @@ def test_files_that_are_not_loops_are_listed_not_failures(quick, folder, tmp_pat
     assert cli.main(["scan", str(folder), "-q"]) == 1
 
 
+def test_a_report_written_into_the_scanned_folder_is_not_a_failure_next_time(quick, folder,
+                                                                             capsys):
+    (folder / "broken.csv").unlink()
+    out = folder / "report.csv"
+    assert cli.main(["scan", str(folder), "-q", "-o", str(out)]) == 0
+    assert cli.main(["scan", str(folder), "-q", "-o", str(out)]) == 0  # reads its report
+    assert "an earlier scan's report" in capsys.readouterr().err
+    assert pd.read_csv(out)["file"].tolist().count("report.csv") == 1
+
+
 def test_outputs_with_home_and_compression_are_written(quick, folder, tmp_path, monkeypatch):
     (folder / "broken.csv").unlink()
     home = tmp_path / "home"
