@@ -187,27 +187,12 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     >>> bool(gain > 0.5), bool(1.6 < band < 2.4)
     (True, True)
     """
-    pv = np.ascontiguousarray(pv, dtype=float)
-    op = np.ascontiguousarray(op, dtype=float)
     if int(n_lags) != n_lags or n_lags < 2:
         raise ValueError(f"n_lags must be an integer >= 2; got {n_lags!r}.")
-    n_lags = int(min(n_lags, max(2, pv.size // 20)))
-    if pv.size < 4 * (n_lags + 3):
+    curve = band_curve(pv, op, n_lags=n_lags, grid=grid)
+    if curve is None:
         return np.nan, np.nan
-    span = float(np.ptp(op))
-    if span == 0 or np.ptp(pv) == 0:
-        return np.nan, np.nan
-    fracs = _DEFAULT_GRID if grid is None else np.asarray(grid, dtype=float)
-    # shifting PV and OP changes no residual (the model has an intercept and the play
-    # operator commutes with a shift); centred, the normal equations lose no precision
-    pv = pv - pv.mean()
-    op = op - op.mean()
-    # every band's fit from its normal equations (O(n) per band, no design matrix);
-    # band 0 is the linear model on OP itself (the play operator with d = 0 is u)
-    bands = np.concatenate([[0.0], fracs * span])
-    Gs, hs, bb = _grid_normal_equations(pv, op, bands, n_lags)
-    coefs = _solve_normal(Gs, hs)
-    sses = bb - np.einsum("gi,gi->g", coefs, hs)
+    pv, op, n_lags, bands, coefs, sses = curve
     best = 1 + int(np.argmin(sses[1:]))
     # the two residuals that are reported, recomputed on the design itself
     base = _residual_sse(pv, op, n_lags, coefs[0])
@@ -217,6 +202,36 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     if sse_best >= base:
         return 0.0, 0.0
     return 1.0 - sse_best / base, float(bands[best])
+
+
+def band_curve(pv, op, *, n_lags=8, grid=None):
+    """The fit of every band of the grid, from its normal equations (O(n) per band, no
+    design matrix), or ``None`` when there is nothing to fit.
+
+    Returns ``(pv, op, n_lags, bands, coefs, sses)``: the centred signals, the lags
+    used, the bands in OP units (band 0 first: the linear model on OP itself, as the
+    play operator with d = 0 is u), each band's ARX coefficients and residual sum of
+    squares. :func:`fit_stiction_band` picks the best; a fit over several block phases
+    (:func:`~sktiction.features.hysteresis.valve_fit`) averages the curves first.
+    """
+    pv = np.ascontiguousarray(pv, dtype=float)
+    op = np.ascontiguousarray(op, dtype=float)
+    n_lags = int(min(n_lags, max(2, pv.size // 20)))
+    if pv.size < 4 * (n_lags + 3):
+        return None
+    span = float(np.ptp(op))
+    if span == 0 or np.ptp(pv) == 0:
+        return None
+    fracs = _DEFAULT_GRID if grid is None else np.asarray(grid, dtype=float)
+    # shifting PV and OP changes no residual (the model has an intercept and the play
+    # operator commutes with a shift); centred, the normal equations lose no precision
+    pv = pv - pv.mean()
+    op = op - op.mean()
+    bands = np.concatenate([[0.0], fracs * span])
+    Gs, hs, bb = _grid_normal_equations(pv, op, bands, n_lags)
+    coefs = _solve_normal(Gs, hs)
+    sses = bb - np.einsum("gi,gi->g", coefs, hs)
+    return pv, op, n_lags, bands, coefs, sses
 
 
 class StictionModelFit(LoopTransformer):
