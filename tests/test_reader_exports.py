@@ -210,3 +210,14 @@ def test_hour_missing_on_a_weekday_stays_a_gap(tmp_path):
     _, meta = _meta(_dst(tmp_path, "2024-03-28"))  # a Thursday: data really missing
     assert "clock set forward" not in meta["reason"]
     assert meta["status"] == "error" or meta["n_samples"] > 100
+
+
+def test_an_op_written_as_a_fraction_of_travel_is_noted(tmp_path):
+    """Sizes are in OP's units: an OP of 0-1 makes a 0.6 % band read 0.006."""
+    t = np.arange(300)
+    op = 0.5 + 0.1 * np.sin(t / 10)
+    pd.DataFrame({"t": t, "PV": 20 + op, "OP": op}).to_csv(tmp_path / "frac.csv", index=False)
+    pd.DataFrame({"t": t, "PV": 20 + op, "OP": 100 * op}).to_csv(tmp_path / "pct.csv",
+                                                                 index=False)
+    assert "OP stays within 0-1" in read_loop_file(tmp_path / "frac.csv").meta.loc[0, "reason"]
+    assert "0-1" not in read_loop_file(tmp_path / "pct.csv").meta.loc[0, "reason"]

@@ -430,6 +430,9 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
         if "op" not in g:
             reason.append("no OP column")
         pv, op = X[j, :, 0], X[j, :, 1]
+        if "op" in g and _fraction(op):
+            reason.append("OP stays within 0-1 (a fraction of travel?): stiction sizes are in "
+                          "OP's units, not %")  # fmt: skip
         status = STATUS_OK
         if np.isnan(pv).all():
             status = STATUS_ERROR
@@ -461,6 +464,12 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
                 })  # fmt: skip
             )
     return X, rows, frames
+
+
+def _fraction(op):
+    """Whether OP moves and stays within [0, 1]: a valve position written as a fraction."""
+    op = op[np.isfinite(op)]
+    return op.size > 1 and op.min() >= 0 and op.max() <= 1 and op.max() > op.min()
 
 
 def manual_gaps(X, rows):
