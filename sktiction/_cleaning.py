@@ -18,32 +18,47 @@ from .cycles._signal import fast_percentile
 
 #: Widest spike removed, in samples.
 MAX_SPIKE_WIDTH = 3
+#: Samples either side of a spike that must hold no other jump as large: a spike is alone,
+#: while a fast flat-topped cycle (a sticky valve's levels of 2-3 samples) jumps all the time.
+_QUIET = MAX_SPIKE_WIDTH + 1
+#: Largest share of a record that may be spikes (at least 3 samples): beyond it the signal
+#: itself jumps (pulses, a fast cycle), and nothing is removed.
+MAX_SPIKE_SHARE = 0.01
 #: Fewest value changes from which a hold grid is believed (a chance alignment of 20
 #: changes on one phase of 2 has probability 2e-6).
 MIN_HOLD_CHANGES = 20
 
 
 def _spike_limit(x, d):
-    """How far a spike must stand out (``d`` = ``diff(x)``): six robust sds of the steps,
-    and 0.6 of the 5-95 % spread, so neither noise nor a cycle's own peaks (a cycle of 4
-    samples at most) count. ``inf`` when no step is that large (most records: the spread,
+    """How far a spike must stand out (``x`` finite, ``d`` = ``diff(x)``): six robust sds
+    of the steps (on a held or quantised record, whose typical step is 0, of its typical
+    change instead), and 0.6 of the 5-95 % spread, so neither noise, a recording grid nor a
+    cycle's own peaks count. ``inf`` when no step is that large (most records: the spread,
     which needs a partition, is then not computed)."""
     # scales from about 2,000 evenly spread samples: as robust, and cheap on long records
     every = max(1, d.size // 2000)
-    d = np.abs(d[np.isfinite(d)])
-    if d.size < 8:
+    steps = np.abs(d)
+    if steps.size < 8:
         return np.inf
-    limit = 6.0 * 1.4826 * np.median(d[::every])  # steps are centred: |d|'s median is their MAD
-    if not (d > limit).any():
+    scale = np.median(steps[::every])  # steps are centred: |d|'s median is their MAD
+    if scale == 0:
+        changes = steps[steps > 0]
+        if changes.size < 3:
+            return np.inf
+        scale = np.median(changes)
+    limit = 6.0 * 1.4826 * scale
+    if not (steps > limit).any():
         return np.inf
-    finite = x[np.isfinite(x)][::every]
-    lo, hi = fast_percentile(finite, [5, 95])
+    lo, hi = fast_percentile(x[::every], [5, 95])
     return max(limit, 0.6 * (hi - lo))
 
 
 def spike_mask(x):
     """Samples of ``x`` (1-D) that are spikes: runs of one to :data:`MAX_SPIKE_WIDTH`
-    samples that jump away by more than the limit and straight back to within half of it.
+    samples that jump away by more than the limit and straight back to within half of it,
+    with no other jump as large within :data:`_QUIET` samples. Neighbours are read across
+    NaN holes (a "Bad" value beside a hole is a spike too); none when more than
+    :data:`MAX_SPIKE_SHARE` of the record would be.
 
     Examples
     --------
@@ -57,23 +72,31 @@ def spike_mask(x):
     """
     x = np.asarray(x, dtype=float)
     mask = np.zeros(x.size, dtype=bool)
-    d = np.diff(x)
-    limit = _spike_limit(x, d)
+    finite = np.flatnonzero(np.isfinite(x))
+    y = x[finite]
+    d = np.diff(y)
+    limit = _spike_limit(y, d)
     if not np.isfinite(limit):
         return mask
-    with np.errstate(invalid="ignore"):
-        start = np.flatnonzero(np.abs(d) > limit)  # jumps away (or back): a few at most
+    big = np.abs(d) > limit
+    start = np.flatnonzero(big)  # jumps away (or back): a few at most
+    n_big = np.concatenate([[0], np.cumsum(big)])  # big jumps before each step
+    found = np.zeros(y.size, dtype=bool)
     for w in range(1, MAX_SPIKE_WIDTH + 1):
-        i = start[start + w + 1 < x.size]
-        before, after = x[i], x[i + w + 1]
-        with np.errstate(invalid="ignore"):
-            hit = (np.abs(d[i + w]) > limit) & (np.sign(d[i]) == -np.sign(d[i + w]))
-            hit &= np.abs(after - before) <= limit / 2
-            base = (before + after) / 2
-            for j in range(1, w + 1):
-                hit &= (x[i + j] - base) * np.sign(d[i]) > limit
+        i = start[start + w + 1 < y.size]
+        before, after = y[i], y[i + w + 1]
+        hit = big[i + w] & (np.sign(d[i]) == -np.sign(d[i + w]))
+        hit &= np.abs(after - before) <= limit / 2
+        base = (before + after) / 2
         for j in range(1, w + 1):
-            mask[i[hit] + j] = True
+            hit &= (y[i + j] - base) * np.sign(d[i]) > limit
+        lo, hi = np.maximum(i - _QUIET, 0), np.minimum(i + w + 1 + _QUIET, d.size)
+        hit &= (n_big[hi] - n_big[lo]) == (n_big[i + w + 1] - n_big[i])  # alone
+        for j in range(1, w + 1):
+            found[i[hit] + j] = True
+    if found.sum() > max(3, MAX_SPIKE_SHARE * y.size):
+        return mask
+    mask[finite[found]] = True
     return mask
 
 
@@ -94,8 +117,8 @@ def remove_spikes(loop, n):
 
 def hold_step(loop, n):
     """``(k, phase)`` when every channel of one loop changes value only on rows
-    ``phase + j * k`` (k >= 2; at least 98 % of :data:`MIN_HOLD_CHANGES` or more changes),
-    else ``(1, 0)``: the largest such k."""
+    ``phase + j * k`` (2 <= k <= 60; at least 98 % of :data:`MIN_HOLD_CHANGES` or more
+    changes), else ``(1, 0)``: the largest such k."""
     x = loop[:n]
     if _changes(x[:400]) > 0.51 * min(n, 400):  # most records change on most rows
         return 1, 0
@@ -104,7 +127,7 @@ def hold_step(loop, n):
     rows = np.flatnonzero(changed.any(axis=1)) + 1
     if rows.size < MIN_HOLD_CHANGES or rows.size > 0.51 * n:  # a hold of 2 changes <= n / 2
         return 1, 0
-    for k in range(10, 1, -1):
+    for k in range(min(60, n // rows.size + 1), 1, -1):  # k rows per value: <= n / changes
         counts = np.bincount(rows % k, minlength=k)
         if counts.max() >= 0.98 * rows.size:
             return k, int(np.argmax(counts))

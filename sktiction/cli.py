@@ -178,11 +178,16 @@ def _not_loop_files(report, table):
 
 
 def _is_report(path):
-    """Whether ``path`` is a CSV report of a scan (its header names our columns)."""
+    """Whether ``path`` is a scan's report (CSV, JSON or Parquet whose columns are ours)."""
     try:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            header = f.readline()
-    except (OSError, TypeError):
+        if str(path).lower().endswith(".parquet"):
+            import pyarrow.parquet as pq
+
+            header = " ".join(pq.read_schema(path).names)
+        else:
+            with open(path, "rb") as f:
+                header = f.read(4096).decode("utf-8", errors="replace")
+    except Exception:  # noqa: BLE001 - unreadable here too: not ours to vouch for
         return False
     return "stiction_probability" in header and "verdict" in header
 

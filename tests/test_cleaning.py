@@ -37,6 +37,28 @@ def test_steps_cycles_noise_and_wide_excursions_are_not_spikes():
     assert np.flatnonzero(spike_mask(ramp)).tolist() == [200]
 
 
+def test_fast_flat_topped_cycles_pulses_and_grid_flicker_are_not_spikes():
+    """A sticky valve's square PV with levels of 2-3 samples jumps away and back like a
+    spike, but never alone; pulses recur; a recording grid flickers by one quantum."""
+    rng = np.random.default_rng(3)
+    t = np.arange(1200)
+    for level in (2, 3):
+        square = np.where((t // level) % 2 == 0, -1.0, 1.0) + rng.normal(0, 0.02, 1200)
+        assert not spike_mask(square).any()
+    pulses = np.where(t % 12 < 2, 1.0, 0.0) + rng.normal(0, 0.01, 1200)
+    assert not spike_mask(pulses).any()  # alone each, but 17 % of the record: the signal
+    flicker = np.zeros(1200)
+    flicker[rng.choice(1200, 20, replace=False)] = 0.1  # one quantum up and back
+    assert not spike_mask(flicker).any()
+
+
+def test_bad_values_beside_a_hole_or_each_other_are_found():
+    x = _sine(1000) + 100.0
+    x[100], x[101] = np.nan, -9999.0  # "Bad" as text (NaN) and as a number, side by side
+    x[[300, 500, 700]] = 0.0
+    assert np.flatnonzero(spike_mask(x)).tolist() == [101, 300, 500, 700]
+
+
 def test_remove_spikes_draws_a_line_and_counts_what_it_replaced():
     loop = np.stack([_sine() + 100.0, _sine(seed=1) + 50.0, np.full(600, 100.0)], axis=1)
     clean = loop.copy()
@@ -55,6 +77,8 @@ def test_a_regular_hold_is_found_with_its_phase_and_irregular_repeats_are_not():
     stored = np.stack([_sine(300), _sine(300, seed=3), np.full(300, np.nan)], axis=1)
     held = np.repeat(stored, 3, axis=0)[1:]  # every value on 3 rows, first one cut
     assert hold_step(held, len(held)) == (3, 2)
+    twelve = np.repeat(stored, 12, axis=0)
+    assert hold_step(twelve, len(twelve)) == (12, 0)  # not 6, which fits too
     assert hold_step(stored, 300) == (1, 0)
     compressed = stored.copy()
     keep = rng.random(300) < 0.4  # a compression band: values repeated at random
@@ -83,7 +107,9 @@ def test_hidden_spike_and_hold_leave_the_scan_where_the_clean_loop_is():
     assert (gaps[:, GAP_COLUMNS.index("rows_per_value")] == 3).all()
     np.testing.assert_array_equal(fixed[:, :500], X[:, :500])
     assert np.isnan(fixed[:, 500:]).all()
-    assert (gaps[:, GAP_COLUMNS.index("kept_stop")] == 1498).all()  # last row read: 1497
+    # the rows read stand for their blocks: the whole input is kept
+    assert (gaps[:, GAP_COLUMNS.index("kept_start")] == 0).all()
+    assert (gaps[:, GAP_COLUMNS.index("kept_stop")] == 1500).all()
 
 
 def test_the_file_scan_says_what_it_repaired_in_the_loops_notes(tmp_path):
@@ -115,6 +141,7 @@ def test_the_file_scan_says_what_it_repaired_in_the_loops_notes(tmp_path):
     assert "1 spike sample" in notes["A_spike.csv"]
     assert report.loc["B_held.csv", ["rows_per_value", "ts"]].tolist() == [2, 2.0]
     assert "read one row in 2, sample time 2 s" in notes["B_held.csv"]
+    assert "analysed rows" not in notes["B_held.csv"]  # no gap: the whole file was read
     assert "analysed rows 331-1200 of 1200" in notes["C_gap.csv"]
     clean = pd.DataFrame({"t": np.arange(1200), "PV": pv, "OP": op})
     clean.to_csv(tmp_path / "D_clean.csv", index=False)

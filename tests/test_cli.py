@@ -117,6 +117,12 @@ def test_a_report_written_into_the_scanned_folder_is_not_a_failure_next_time(qui
     assert cli.main(["scan", str(folder), "-q", "-o", str(out)]) == 0  # reads its report
     assert "an earlier scan's report" in capsys.readouterr().err
     assert pd.read_csv(out)["file"].tolist().count("report.csv") == 1
+    out.unlink()
+    for fmt in ("json", "parquet"):
+        report = folder / f"report.{fmt}"
+        assert cli.main(["scan", str(folder), "-q", "-o", str(report), "--format", fmt]) == 0
+        assert cli.main(["scan", str(folder), "-q", "-o", str(report), "--format", fmt]) == 0
+        report.unlink()
 
 
 def test_outputs_with_home_and_compression_are_written(quick, folder, tmp_path, monkeypatch):

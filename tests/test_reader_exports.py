@@ -212,6 +212,17 @@ def test_hour_missing_on_a_weekday_stays_a_gap(tmp_path):
     assert meta["status"] == "error" or meta["n_samples"] > 100
 
 
+def test_an_hour_missing_off_the_clock_hour_on_a_spring_sunday_stays_a_gap(tmp_path):
+    """01:25 -> 02:25 skips no whole hour of the clock's face: an outage, not DST."""
+    t = _times("2024-04-14 01:15:00", 100)
+    t = t.where(t < pd.Timestamp("2024-04-14 01:25:00"), t + pd.Timedelta(hours=1))
+    df = _frame(n=100)
+    df["Timestamp"] = t.strftime("%Y-%m-%d %H:%M:%S")
+    df.to_csv(tmp_path / "outage.csv", index=False)
+    _, meta = _meta(tmp_path / "outage.csv")
+    assert "clock set forward" not in meta["reason"]
+
+
 def test_an_op_written_as_a_fraction_of_travel_is_noted(tmp_path):
     """Sizes are in OP's units: an OP of 0-1 makes a 0.6 % band read 0.006."""
     t = np.arange(300)

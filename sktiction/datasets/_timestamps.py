@@ -165,7 +165,8 @@ def _clock_back(stamps, notes):
 
 def _clock_forward(stamps, notes):
     """Naive local time skips an hour when daylight saving time starts: one step forward
-    of an hour plus a sample, from the small hours of a Sunday in March, April (north),
+    of an hour plus a sample over a whole clock hour (02:00-03:00), from the small hours
+    of a Sunday in March, April (north),
     September or October (south), every other step regular. The rows after the jump are
     read an hour earlier, so the skipped hour is not a gap. Anything else (a jump on
     another day or hour, other gaps or steps back in the file) is left as it is: a real
@@ -180,8 +181,11 @@ def _clock_forward(stamps, notes):
     if jump.size != 1 or not 0 < step < 900 or abs(dt[jump[0]] - 3600 - step) > 0.01 * step:
         return stamps
     before, at = pd.Timestamp(int(ns[jump[0]])), pd.Timestamp(int(ns[jump[0] + 1]))
+    # the clock skips a whole hour of its face (02:00-03:00): a record that stops at 01:25
+    # and goes on at 02:25 lost an hour of data instead
+    skipped = at.floor("h") - pd.Timedelta(hours=1)
     if not (at.weekday() == 6 and at.month in (3, 4, 9, 10) and before.hour < 3
-            and at.hour < 4):  # fmt: skip
+            and at.hour < 4 and before < skipped):  # fmt: skip
         return stamps
     i = np.flatnonzero(ok)[jump[0] + 1]
     later = np.arange(len(stamps)) >= i

@@ -426,10 +426,10 @@ def _gap_free(X):
     return lengths
 
 
-def _undo_artefacts(loops, idx):
-    """Undo regular holds and remove spikes (:mod:`sktiction._cleaning`) of loops ``idx``,
-    in place. Returns rows per value, the hold grid's phase and spike samples per loop."""
-    lengths = loop_lengths(loops[idx])
+def _undo_artefacts(loops, idx, lengths):
+    """Undo regular holds and remove spikes (:mod:`sktiction._cleaning`) of loops ``idx``
+    (of ``lengths`` samples), in place. Returns rows per value, the hold grid's phase and
+    spike samples per loop."""
     out = np.zeros((len(idx), 3), dtype=int)
     for j, (i, n) in enumerate(zip(idx, lengths)):
         step, phase = hold_step(loops[i], n)
@@ -464,7 +464,8 @@ def repaired(loops, max_gap, usable=None):
     idx = np.flatnonzero(ok if usable is None else ok & usable)
     if not idx.size:
         return loops, gaps
-    step, phase, spikes = _undo_artefacts(loops, idx).T
+    lengths_in = loop_lengths(loops[idx])
+    step, phase, spikes = _undo_artefacts(loops, idx, lengths_in).T
     lengths = _gap_free(loops[idx])
     if lengths is not None:  # most records: what repair_gaps would say, without its work
         info = {"n_bridged": 0, "n_gaps_split": 0, "kept_start": 0, "kept_stop": lengths}
@@ -473,10 +474,12 @@ def repaired(loops, max_gap, usable=None):
         loops[idx] = fixed[:, :m]
     for j, col in enumerate(GAP_COLUMNS[:4]):
         gaps[idx, j] = np.asarray(info[col], dtype=float)
-    # the kept stretch in the input's rows, where every step-th row was read
+    # the kept stretch in the input's rows, where each row read stands for its block of
+    # ``step`` rows (the rows before the first whole block hold the value before it)
     start, stop = gaps[idx, 2], gaps[idx, 3]
-    gaps[idx, 2] = phase + step * start
-    gaps[idx, 3] = np.where(stop > start, phase + step * (stop - 1) + 1, gaps[idx, 2])
+    gaps[idx, 2] = np.where(start > 0, phase + step * start, 0)
+    gaps[idx, 3] = np.where(stop > start, np.minimum(phase + step * stop, lengths_in),
+                            gaps[idx, 2])
     gaps[idx, 4], gaps[idx, 5] = spikes, step
     return loops, gaps
 
@@ -530,12 +533,14 @@ def scan_loops(
         chunks are sent to the workers). For files, :func:`scan_files` lets the
         workers read their own. The report is the same as a local scan's.
     max_gap : "auto", int or None, default=None
-        ``None`` leaves NaN gaps inside a record (the loop gets ``nan_gap``); ``"auto"``
-        or a number of samples bridges short gaps and keeps the longest stretch, as
-        :func:`scan_files` does (:func:`~sktiction._validation.repair_gaps`; the report
-        then has ``n_bridged``, ``n_gaps_split``, ``kept_start``, ``kept_stop``), e.g. for
-        loops read with :func:`~sktiction.datasets.read_loops`, whose missing values are
-        gaps.
+        ``None`` repairs nothing: NaN gaps inside a record stay (the loop gets
+        ``nan_gap``). ``"auto"`` or a number of samples repairs as :func:`scan_files`
+        does (:func:`repaired`): a regular hold is read one row in k, spikes are
+        replaced, short gaps bridged and the longest stretch kept; the report then has
+        ``n_bridged``, ``n_gaps_split``, ``kept_start``, ``kept_stop`` (input rows),
+        ``n_spikes`` and ``rows_per_value``, and a ``ts`` column from ``meta`` is the
+        sample time of the rows read. E.g. for loops read with
+        :func:`~sktiction.datasets.read_loops`, whose missing values are gaps.
 
     Returns
     -------
@@ -581,4 +586,8 @@ def scan_loops(
                           client=client, bar=bar, sizes=[len(u[1]) for u in units])
     gap_columns = list(GAP_COLUMNS) if max_gap is not None else []
     report = pd.concat(parts, ignore_index=True)[gap_columns + REPORT_COLUMNS]
+    if meta is not None and "ts" in meta and max_gap is not None:
+        meta = meta.copy()  # a hold undone: the rows read are k times further apart
+        step = report["rows_per_value"].fillna(1.0).to_numpy()
+        meta["ts"] = meta["ts"].to_numpy(dtype=float) * step
     return join_meta(meta, report)
