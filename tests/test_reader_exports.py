@@ -95,25 +95,24 @@ def test_historian_channel_names(name, expected):
     assert _split(name) == expected
 
 
-def test_deltav_paths_make_one_loop(tmp_path):
+@pytest.mark.parametrize(
+    "columns, tag",
+    [
+        (["Timestamp", "LIC101/PID1/PV.CV", "LIC101/PID1/OUT.CV", "LIC101/PID1/SP.CV"],
+         "LIC101/PID1"),  # DeltaV: CV is the value field, not a PV
+        (["Timestamp", "PIC1.MEAS", "PIC1.OUT", "PIC1.SPT"], "PIC1"),  # Foxboro's setpoint
+    ],
+)
+def test_historian_exports_make_one_loop_with_its_setpoint(tmp_path, columns, tag):
     df = _frame()
-    df["SP"] = 1000.0
-    df.columns = ["Timestamp", "LIC101/PID1/PV.CV", "LIC101/PID1/OUT.CV", "LIC101/PID1/SP.CV"]
-    path = tmp_path / "deltav.csv"
+    df["SP"] = 5.0
+    df.columns = columns
+    path = tmp_path / "export.csv"
     df.to_csv(path, index=False)
     data, meta = _meta(path)
-    assert data.X.shape == (1, 60, 3) and meta["tag"] == "LIC101/PID1"
-    assert not np.isnan(data.X).any()
-
-
-def test_foxboro_setpoint(tmp_path):
-    df = _frame()
-    df["PIC1.SPT"] = 5.0
-    df.columns = ["Timestamp", "PIC1.MEAS", "PIC1.OUT", "PIC1.SPT"]
-    path = tmp_path / "foxboro.csv"
-    df.to_csv(path, index=False)
-    data, _ = _meta(path)
+    assert data.X.shape == (1, 60, 3) and meta["tag"] == tag
     np.testing.assert_allclose(data.X[0, :, 2], 5.0)
+    assert not np.isnan(data.X).any()
 
 
 # ---- 4. timestamps coarser than the rows ---------------------------------------------------
@@ -164,25 +163,19 @@ def test_rows_exported_twice_are_still_duplicates(tmp_path):
 # ---- 5. month-first dates ------------------------------------------------------------------
 
 
-def test_month_first_dates_crossing_midnight(tmp_path):
+@pytest.mark.parametrize("pattern, order", [("%m/%d/%Y", "month"), ("%d/%m/%Y", "day")])
+def test_ambiguous_dates_crossing_midnight_are_read_in_the_order_of_a_regular_axis(
+    tmp_path, pattern, order
+):
+    """Every day <= 12: only midnight tells the orders apart (a month's jump or a day's)."""
     df = _frame()
-    df["Timestamp"] = _times("2024-06-03 23:55:00", 60).strftime("%m/%d/%Y %H:%M:%S")
-    path = tmp_path / "us_dates.csv"
-    df.to_csv(path, index=False)
-    data, meta = _meta(path)
-    assert meta["status"] == "ok" and meta["ts"] == 10.0 and meta["n_samples"] == 60
-    assert meta["start"] == pd.Timestamp("2024-06-03 23:55:00")
-    assert "read month first" in meta["reason"]
-
-
-def test_day_first_dates_crossing_midnight_stay_day_first(tmp_path):
-    df = _frame()
-    df["Timestamp"] = _times("2024-06-03 23:55:00", 60).strftime("%d/%m/%Y %H:%M:%S")
-    path = tmp_path / "eu_dates.csv"
+    df["Timestamp"] = _times("2024-06-03 23:55:00", 60).strftime(f"{pattern} %H:%M:%S")
+    path = tmp_path / "dates.csv"
     df.to_csv(path, index=False)
     _, meta = _meta(path)
+    assert meta["status"] == "ok" and meta["ts"] == 10.0 and meta["n_samples"] == 60
     assert meta["start"] == pd.Timestamp("2024-06-03 23:55:00")
-    assert "read day first" in meta["reason"]
+    assert f"read {order} first" in meta["reason"]
 
 
 # ---- 6. spring-forward DST change ----------------------------------------------------------
