@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import sys
 import time
 from pathlib import Path
@@ -210,11 +211,20 @@ def _console_table(report):
         notes = report["input_reason"].fillna("").astype(str)
         failed = table["read"] != "ok"
         reason = np.where(failed, notes, np.where(notes != "", reason + "; " + notes, reason))
-    table["reason"] = reason
+    table["reason"] = pd.Series(reason, index=table.index).map(_as_options)
     table = table.rename(columns={"stiction_probability": "p_stiction",
                                   "stiction_size_mean": "size_%",
                                   "stiction_band_fit": "band_%"})
     return table
+
+
+_ARGUMENTS = re.compile(r"channels=\{'(\w+)': \.\.\.\}")
+
+
+def _as_options(reason):
+    """The readers' advice in this command's words: ``--channels pv=COLUMN``, ``--ts``."""
+    reason = _ARGUMENTS.sub(lambda m: f"--channels {m.group(1)}=COLUMN", str(reason))
+    return reason.replace("pass ts=", "pass --ts SECONDS")
 
 
 def _positive_int(text):

@@ -145,6 +145,7 @@ def test_some_files_fail_exit_1_and_the_table_says_why(quick, folder, tmp_path, 
     lines = stdout.splitlines()
     broken = [line for line in lines if "broken.csv" in line]
     assert len(broken) == 1 and "no PV column" in broken[0]
+    assert "--channels pv=COLUMN" in broken[0]  # the console gives this command's options
     for name in (p.name for p in folder.iterdir() if p.name.startswith("stic_")):
         row = [line for line in lines if name in line]
         assert len(row) == 1
