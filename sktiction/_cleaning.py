@@ -120,11 +120,9 @@ def hold_step(loop, n):
     ``phase + j * k`` (2 <= k <= 60; at least 98 % of :data:`MIN_HOLD_CHANGES` or more
     changes), else ``(1, 0)``: the largest such k."""
     x = loop[:n]
-    if _changes(x[:400]) > 0.51 * min(n, 400):  # most records change on most rows
+    if _changed_rows(x[:400]).sum() > 0.51 * min(n, 400):  # most records change on most rows
         return 1, 0
-    with np.errstate(invalid="ignore"):
-        changed = (np.diff(x, axis=0) != 0) & np.isfinite(x[1:]) & np.isfinite(x[:-1])
-    rows = np.flatnonzero(changed.any(axis=1)) + 1
+    rows = np.flatnonzero(_changed_rows(x)) + 1
     if rows.size < MIN_HOLD_CHANGES or rows.size > 0.51 * n:  # a hold of 2 changes <= n / 2
         return 1, 0
     for k in range(min(60, n // rows.size + 1), 1, -1):  # k rows per value: <= n / changes
@@ -134,7 +132,8 @@ def hold_step(loop, n):
     return 1, 0
 
 
-def _changes(x):
-    """Rows of ``x`` (samples, channels) where some channel takes a new value."""
+def _changed_rows(x):
+    """Whether some channel of ``x`` (samples, channels) takes a new value at each row
+    after the first (NaN: no value, so no change)."""
     d = np.diff(x, axis=0)
-    return int(((d != 0) & ~np.isnan(d)).any(axis=1).sum())  # NaN: no value, no change
+    return ((d != 0) & ~np.isnan(d)).any(axis=1)

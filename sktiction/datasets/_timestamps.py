@@ -138,15 +138,27 @@ def _parse_offsets(raw, fmt, clean):
     return _parse_all(raw, "ISO8601-utc", clean)
 
 
+def _steps(stamps):
+    """``(ok, ns, dt)``: which stamps exist, their int64 nanoseconds and the steps between
+    them in seconds."""
+    ok = stamps.notna().to_numpy()
+    ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)[ok]
+    return ok, ns, np.diff(ns) / 1e9
+
+
+def _shift_from(stamps, i, hours):
+    """``stamps`` with row ``i`` and every later row moved by ``hours``."""
+    later = np.arange(len(stamps)) >= i
+    return stamps.where(~later, stamps + pd.Timedelta(hours=hours))
+
+
 def _clock_back(stamps, notes):
     """Naive local time repeats an hour when daylight saving time ends: one step back of
     an hour less a sample, in the small hours of a March, April, October or November
     night. Sorting would interleave the two hours and drop every repeated stamp; the rows
     after the step are read an hour later instead. Anything else stepping back (an
     overlapping export, a restart) is left to the sort."""
-    ok = stamps.notna().to_numpy()
-    ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)[ok]
-    dt = np.diff(ns) / 1e9
+    ok, ns, dt = _steps(stamps)
     back = np.flatnonzero(dt < 0)
     if back.size != 1 or dt.size < 3:
         return stamps
@@ -155,9 +167,7 @@ def _clock_back(stamps, notes):
     if not (0 < step < 900 and abs(dt[back[0]] + 3600 - step) <= 0.5 * step
             and at.month in (3, 4, 10, 11) and at.hour < 4):  # fmt: skip
         return stamps
-    i = np.flatnonzero(ok)[back[0] + 1]
-    later = np.arange(len(stamps)) >= i
-    stamps = stamps.where(~later, stamps + pd.Timedelta(hours=1))
+    stamps = _shift_from(stamps, np.flatnonzero(ok)[back[0] + 1], hours=1)
     notes.append(f"clock set back an hour at {at} (daylight saving time ending, local time "
                  "without offset): later rows read an hour later")  # fmt: skip
     return stamps
@@ -171,9 +181,7 @@ def _clock_forward(stamps, notes):
     read an hour earlier, so the skipped hour is not a gap. Anything else (a jump on
     another day or hour, other gaps or steps back in the file) is left as it is: a real
     hour of missing data must stay a gap."""
-    ok = stamps.notna().to_numpy()
-    ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)[ok]
-    dt = np.diff(ns) / 1e9
+    ok, ns, dt = _steps(stamps)
     if dt.size < 3 or (dt <= 0).any():
         return stamps
     step = float(np.median(dt))
@@ -187,9 +195,7 @@ def _clock_forward(stamps, notes):
     if not (at.weekday() == 6 and at.month in (3, 4, 9, 10) and before.hour < 3
             and at.hour < 4 and before < skipped):  # fmt: skip
         return stamps
-    i = np.flatnonzero(ok)[jump[0] + 1]
-    later = np.arange(len(stamps)) >= i
-    stamps = stamps.where(~later, stamps - pd.Timedelta(hours=1))
+    stamps = _shift_from(stamps, np.flatnonzero(ok)[jump[0] + 1], hours=-1)
     notes.append(f"clock set forward an hour at {at} (daylight saving time starting, local "
                  "time without offset): later rows read an hour earlier")  # fmt: skip
     return stamps
@@ -198,8 +204,7 @@ def _clock_forward(stamps, notes):
 def _irregular(stamps):
     """Steps of ``stamps`` that go back or differ from the median forward step by more
     than 1% (repeated stamps are left to the caller)."""
-    ns = stamps.dropna().to_numpy(dtype="datetime64[ns]").astype(np.int64)
-    dt = np.diff(ns).astype(float)
+    dt = _steps(stamps)[2]
     forward = dt[dt > 0]
     if len(forward) == 0:
         return int((dt < 0).sum())
