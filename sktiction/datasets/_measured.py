@@ -29,6 +29,7 @@ import pandas as pd
 from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
+from ._long import long_columns, pivot_long
 from ._readers import FileError, file_kind, open_table
 from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
@@ -186,6 +187,15 @@ def _plans(names, channels):
     except FileError:
         return False
     return True
+
+
+def _is_time(name):
+    return channel_key(name) == "time"
+
+
+def _accept(names, channels):
+    """Whether a workbook sheet's columns hold loops, wide or long."""
+    return _plans(names, channels) or long_columns(names, _is_time, channels) is not None
 
 
 def _plan(names, channels):
@@ -359,9 +369,26 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
     kind, why = file_kind(path)
     if kind is None:
         raise _Unsupported(why)
-    table = open_table(path, kind, accept=lambda names: _plans(names, channels))
+    table = open_table(path, kind, accept=lambda names: _accept(names, channels))
+    long = None
+    if not _plans(table.names, channels):
+        long = long_columns(table.names, _is_time, channels)
+        if long is not None:
+            decimal = "," if "decimal comma" in table.info["notes"] else "."
+
+            def to_numbers(col, name):
+                values, counts, note = _numeric(col, name, decimal, strict)
+                return values, [note] * bool(note) + [_status_note(counts, name)] * bool(counts)
+
+            table = pivot_long(table, long, to_numbers, ts=ts, time_unit=time_unit,
+                               strict=strict)  # fmt: skip
     info, names = table.info, table.names
-    time_pos, loops, notes = _plan(names, channels)
+    try:
+        time_pos, loops, notes = _plan(names, channels)
+    except FileError as exc:
+        if long is None:
+            raise
+        raise FileError(f"long layout (a row per tag and time) pivoted to columns: {exc}") from exc
     positions = list(time_pos) + [p for _, g in loops for p in g.values()]
     frame = table.read(positions)
     notes = info["notes"] + notes
@@ -554,6 +581,10 @@ def read_loop_file(
         ``<tag>.MV/.PV/.SV/.MODE``), delimited text with a header row (``,``, ``;``, tab or
         ``|``; decimal comma; comment or title lines before the header; UTF-8, UTF-16,
         GB18030 or latin-1), ``.xlsx`` (needs openpyxl) and ``.parquet`` (needs pyarrow).
+        Long tables (a tag, a time and a value column, optionally a parameter such as
+        ``PV`` beside the tag and a quality column) are pivoted to one column per tag
+        (``tag`` or ``tag.parameter``); tags recorded at their own times are interpolated
+        between their records onto the commonest step between records (or ``ts``).
     channels : dict or None, default=None
         Column names to use instead of the automatic match, keyed by ``"pv"``, ``"op"``,
         ``"sp"``, ``"time"``, ``"mode"``, e.g. ``{"pv": "FIC101.PV", "op": "FIC101.OP"}``;
@@ -569,7 +600,8 @@ def read_loop_file(
         prefix; untagged columns beside a single tagged loop belong to it.
     ts : float or None, default=None
         Sampling time in seconds. Needed for files without a time column; when given it
-        overrides the timestamps (a disagreement is noted in the reason).
+        overrides the timestamps (a disagreement is noted in the reason); for a long
+        table of tags recorded at their own times it is the grid step.
     strict : bool, default=False
         Reject instead of repair: text values in a channel (historian status such as
         ``Bad``, ``I/O Timeout``, ``#VALUE!``), empty times, unsorted or duplicated

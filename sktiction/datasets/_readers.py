@@ -14,6 +14,8 @@ Layouts:
 * **Excel workbook** (``.xlsx``, needs openpyxl): the first sheet holding data; title rows
   above the header are skipped.
 * **Parquet** (``.parquet``, needs pyarrow): columns as stored.
+
+Any of them may hold a long table (a row per tag and time): :mod:`._long` pivots it.
 """
 
 from __future__ import annotations

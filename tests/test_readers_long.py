@@ -1,0 +1,156 @@
+"""Long exports (a row per tag and time) read as the same loops as the wide layout."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from sktiction.datasets import make_loops, read_loop_file
+from sktiction.datasets._long import long_columns
+
+START = pd.Timestamp("2026-01-05 08:00")
+
+
+def _wide_and_rows(n=300, ts=10.0, seed=0):
+    """Two simulated loops as a wide table and as long rows, same values."""
+    X, _ = make_loops(2, n_samples=n, random_state=seed)
+    stamps = (START + pd.to_timedelta(np.arange(n) * ts, unit="s")).strftime("%Y-%m-%d %H:%M:%S")
+    wide = pd.DataFrame({"time": stamps})
+    rows = []
+    for j, tag in enumerate(["FIC101", "LIC7"]):
+        for c, ch in enumerate(["PV", "OP", "SP"]):
+            wide[f"{tag}.{ch}"] = X[j, :, c]
+            rows.append(pd.DataFrame({"Tag": tag, "Parameter": ch, "Timestamp": stamps,
+                                      "Value": X[j, :, c]}))  # fmt: skip
+    return X, wide, pd.concat(rows, ignore_index=True)
+
+
+def test_long_rows_in_any_order_read_as_the_wide_file(tmp_path):
+    X, wide, rows = _wide_and_rows()
+    wide.to_csv(tmp_path / "wide.csv", index=False)
+    rows.sample(frac=1, random_state=1).to_csv(tmp_path / "long.csv", index=False)
+    a, b = read_loop_file(tmp_path / "wide.csv"), read_loop_file(tmp_path / "long.csv")
+    np.testing.assert_array_equal(b.X, a.X)
+    np.testing.assert_array_equal(b.X, X)  # CSV keeps every digit of a float
+    assert b.meta["tag"].tolist() == ["FIC101", "LIC7"]
+    assert (b.meta["ts"] == 10.0).all() and (b.meta["start"] == START).all()
+    assert "6 tags pivoted to columns; shared times" in b.meta.loc[0, "reason"]
+
+
+def test_tag_with_parameter_glued_and_separate_give_the_same_loop(tmp_path):
+    _, _, rows = _wide_and_rows()
+    glued = rows.assign(Tag=rows["Tag"] + "." + rows["Parameter"]).drop(columns="Parameter")
+    rows.to_csv(tmp_path / "a.csv", index=False)
+    glued.to_csv(tmp_path / "b.csv", index=False)
+    np.testing.assert_array_equal(
+        read_loop_file(tmp_path / "a.csv").X, read_loop_file(tmp_path / "b.csv").X
+    )
+
+
+def _recorded(seed=0, n=600, ts=5.0):
+    """A compressed export: each tag written only at some scans, each at its own times."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * ts
+    truth = {"PV": np.sin(t / 100), "OP": 50 + 10 * np.cos(t / 70)}
+    rows, records = [], {}
+    for name, v in truth.items():
+        k = np.union1d(rng.choice(n, n // 3, replace=False), [0, n - 1])
+        k = np.union1d(k, np.minimum(k + 1, n - 1))  # consecutive scans while moving
+        records[name] = (t[k], v[k])
+        rows.append(pd.DataFrame({"TagName": "TIC5." + name,
+                                  "TimeStamp": (START + pd.to_timedelta(t[k], unit="s")),
+                                  "Value": v[k].astype(object), "Quality": "Good"}))  # fmt: skip
+    return t, records, pd.concat(rows, ignore_index=True)
+
+
+def test_own_times_interpolated_between_each_tags_records(tmp_path):
+    t, records, rows = _recorded()
+    rows.to_csv(tmp_path / "rec.csv", index=False)
+    data = read_loop_file(tmp_path / "rec.csv")
+    assert data.meta.loc[0, "ts"] == 5.0  # the scan period, not the mean record interval
+    assert data.X.shape == (1, len(t), 3)
+    for c, name in enumerate(["PV", "OP"]):
+        expected = np.interp(t, *records[name])
+        np.testing.assert_allclose(data.X[0, :, c], expected, rtol=0, atol=1e-12)
+    reason = data.meta.loc[0, "reason"]
+    assert "interpolated linearly between its records onto a 5 s grid" in reason
+
+
+def test_bad_records_stay_gaps_on_both_sides(tmp_path):
+    t, records, rows = _recorded()
+    pv = np.flatnonzero(rows["TagName"] == "TIC5.PV")
+    rows.loc[pv[10], "Value"] = "I/O Timeout"
+    rows.loc[pv[20], "Quality"] = "Bad"
+    rows.to_csv(tmp_path / "rec.csv", index=False)
+    data = read_loop_file(tmp_path / "rec.csv")
+    reason = data.meta.loc[0, "reason"]
+    assert "'I/O Timeout' x1" in reason and "1 value of quality other than good" in reason
+    pv_t = records["PV"][0]
+    for i in (10, 20):
+        # the grid between the bad record's neighbours is a gap, nothing is bridged over it
+        gap = (t > pv_t[i - 1]) & (t < pv_t[i + 1])
+        assert np.isnan(data.X[0, gap, 0]).all()
+        assert not np.isnan(data.X[0, t == pv_t[i - 1], 0]).any()
+    assert np.isfinite(data.X[0, :, 1]).all()  # OP has no bad record
+
+
+def test_ts_sets_the_grid_of_recorded_tags(tmp_path):
+    t, records, rows = _recorded()
+    rows.to_csv(tmp_path / "rec.csv", index=False)
+    data = read_loop_file(tmp_path / "rec.csv", ts=15)
+    grid = np.arange(0, t[-1] + 1e-9, 15.0)
+    assert data.X.shape[1] == grid.size
+    np.testing.assert_allclose(data.X[0, :, 1], np.interp(grid, *records["OP"]), atol=1e-12)
+
+
+def test_repeated_tag_and_time_keeps_the_last_or_fails_strict(tmp_path):
+    _, _, rows = _wide_and_rows(n=50)
+    fix = rows.iloc[[3]].assign(Value=123.0)  # a later correction of one value
+    pd.concat([rows, fix]).to_csv(tmp_path / "dup.csv", index=False)
+    data = read_loop_file(tmp_path / "dup.csv")
+    assert data.X[0, 3, 0] == 123.0
+    assert "1 repeated tag and time: kept the last" in data.meta.loc[0, "reason"]
+    strict = read_loop_file(tmp_path / "dup.csv", strict=True).meta
+    assert strict.loc[0, "status"] == "error" and "more than once" in strict.loc[0, "reason"]
+
+
+def test_unmatched_tags_say_so_and_channels_name_them(tmp_path):
+    _, _, rows = _wide_and_rows(n=60)
+    rows = rows[rows["Tag"] == "FIC101"]
+    rows = rows.assign(Tag=rows["Parameter"].map({"PV": "FT101", "OP": "FY101", "SP": "FS101"}))
+    rows.drop(columns="Parameter").to_csv(tmp_path / "odd.csv", index=False)
+    meta = read_loop_file(tmp_path / "odd.csv").meta
+    assert meta.loc[0, "status"] == "error"
+    assert meta.loc[0, "reason"].startswith("long layout (a row per tag and time) pivoted")
+    assert "'FT101'" in meta.loc[0, "reason"]  # the tags the user can name
+    named = read_loop_file(tmp_path / "odd.csv", channels={"pv": "FT101", "op": "FY101"})
+    assert named.meta.loc[0, "status"] == "ok"
+    assert np.isfinite(named.X[0, :, :2]).all() and np.isnan(named.X[0, :, 2]).all()
+
+
+def test_times_of_day_without_dates_are_refused(tmp_path):
+    _, _, rows = _wide_and_rows(n=40)
+    rows.assign(Timestamp=rows["Timestamp"].str[-8:]).to_csv(tmp_path / "tod.csv", index=False)
+    meta = read_loop_file(tmp_path / "tod.csv").meta
+    assert meta.loc[0, "status"] == "error"
+    assert "times of day but no dates" in meta.loc[0, "reason"]
+
+
+@pytest.mark.parametrize(
+    "names, found",
+    [
+        (["Tag", "Timestamp", "Value"], (1, 0, 2)),
+        (["NAME", "IP_TREND_TIME", "IP_TREND_VALUE", "IP_TREND_QSTATUS"], (1, 0, 2)),
+        (["TagName", "Parameter", "TimeStamp", "Value", "Confidence"], (2, 0, 3)),
+        (["time", "FIC1.PV", "FIC1.OP"], None),  # wide
+        (["Tag", "Value"], None),  # no time
+        (["Tag", "Time", "Date", "Value"], None),  # two times: ask, do not guess
+    ],
+)
+def test_long_columns_found_by_name(names, found):
+    from sktiction.datasets import _measured
+
+    cols = long_columns(names, _measured._is_time)
+    if found is None:
+        assert cols is None
+    else:
+        assert (cols["time"], cols["tag"], cols["value"]) == found
