@@ -359,7 +359,7 @@ def test_unexpected_failures_become_the_files_reason(tmp_path, monkeypatch):
     def broken(path, kind, accept=None):
         raise RuntimeError("parser fell over")
 
-    monkeypatch.setattr(_measured, "open_table", broken)
+    monkeypatch.setattr(_measured, "open_tables", broken)
     data = read_loop_file(f)
     assert data.X.shape == (1, 0, 3) and data.X.dtype == np.float64
     assert data.meta.loc[0, ["status", "n_samples", "reason"]].tolist() == [
@@ -369,7 +369,7 @@ def test_unexpected_failures_become_the_files_reason(tmp_path, monkeypatch):
     def denied(path, kind, accept=None):
         raise PermissionError(13, "Permission denied")
 
-    monkeypatch.setattr(_measured, "open_table", denied)
+    monkeypatch.setattr(_measured, "open_tables", denied)
     reason = read_loop_file(f).meta.loc[0, "reason"]
     assert reason == "cannot open: Permission denied"
 

@@ -269,7 +269,8 @@ def test_workbooks(tmp_path):
     table = open_table(path, "xlsx")
     assert table.names == ["time", "PV", "OP"]
     assert table.info == {"format": "xlsx", "tag": None, "time_format": None,
-                          "declared_rows": None, "notes": table.info["notes"]}  # fmt: skip
+                          "declared_rows": None, "sheet": None,
+                          "notes": table.info["notes"]}  # fmt: skip
     assert table.info["notes"] == [
         "workbook has 2 sheets: read 'data' only", "1 row above the header skipped"
     ]  # fmt: skip
@@ -280,7 +281,7 @@ def test_workbooks(tmp_path):
     assert open_table(single, "xlsx").info["notes"] == []
 
 
-def test_a_workbook_is_read_from_the_first_sheet_with_loop_columns(tmp_path):
+def test_a_workbook_is_read_from_the_sheet_with_loop_columns(tmp_path):
     """A cover sheet first: the loop's sheet is found, and the note says which."""
     path = tmp_path / "book.xlsx"
     with pd.ExcelWriter(path) as writer:
@@ -292,7 +293,7 @@ def test_a_workbook_is_read_from_the_first_sheet_with_loop_columns(tmp_path):
     assert data.meta.loc[0, "status"] == "ok"
     np.testing.assert_array_equal(data.X[0, :, 0], [1, 2, 3])
     assert data.meta.loc[0, "reason"] == (
-        "workbook has 2 sheets: read 'data' (the first with loop columns) only")
+        "workbook has 2 sheets: read 'data' (the one with loop columns) only")
     # without an accept rule, or when no sheet has a loop: the first sheet with data
     assert open_table(path, "xlsx").names == ["note"]
     assert open_table(path, "xlsx", accept=lambda names: False).names == ["note"]

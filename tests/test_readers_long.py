@@ -154,3 +154,33 @@ def test_long_columns_found_by_name(names, found):
         assert cols is None
     else:
         assert (cols["time"], cols["tag"], cols["value"]) == found
+
+
+def test_a_workbook_with_a_sheet_per_loop_gives_every_loop(tmp_path):
+    """Every sheet with loop columns is read (a sheet per loop is a common way to gather
+    loops); shorter loops are NaN-padded at the end; a bad sheet gets its own error row."""
+    X, _, _ = _wide_and_rows(n=120)
+    path = tmp_path / "unit3.xlsx"
+    with pd.ExcelWriter(path) as writer:
+        cover = pd.DataFrame({"note": ["exported for the audit"]})
+        cover.to_excel(writer, sheet_name="cover", index=False)
+        for j, (name, n) in enumerate([("FIC101", 120), ("LIC2", 80)]):
+            sheet = pd.DataFrame({"time": np.arange(n) * 5.0, "PV": X[j, :n, 0],
+                                  "OP": X[j, :n, 1], "SP": X[j, :n, 2]})  # fmt: skip
+            sheet.to_excel(writer, sheet_name=name, index=False)
+        bad = pd.DataFrame({"time": ["soon"] * 5, "PV": np.arange(5.0), "OP": np.ones(5)})
+        bad.to_excel(writer, sheet_name="bad", index=False)
+    data = read_loop_file(path)
+    meta = data.meta
+    assert meta["tag"].tolist() == ["FIC101", "LIC2", "bad"]
+    assert meta["status"].tolist() == ["ok", "ok", "error"]
+    assert meta["n_samples"].tolist() == [120, 80, 0]
+    assert data.X.shape == (3, 120, 3)
+    np.testing.assert_allclose(data.X[0], X[0], rtol=1e-14)  # Excel keeps 15 digits
+    np.testing.assert_allclose(data.X[1, :80], X[1, :80], rtol=1e-14)
+    assert np.isnan(data.X[1, 80:]).all() and np.isnan(data.X[2]).all()
+    assert meta.loc[0, "reason"] == (
+        "sheet 'FIC101'; workbook has 4 sheets: read 'FIC101', 'LIC2', 'bad' (those with loop "
+        "columns) only"
+    )
+    assert meta.loc[2, "reason"].startswith("sheet 'bad': ")

@@ -30,7 +30,7 @@ from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
 from ._long import long_columns, pivot_long
-from ._readers import FileError, file_kind, open_table
+from ._readers import FileError, file_kind, open_tables
 from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
 __all__ = ["list_loop_files", "read_loop_file", "read_loops"]
@@ -361,7 +361,12 @@ def _check_args(ts, channels, time_unit):
 
 
 def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
-    """Read one file; return (X, rows, frames) or raise FileError / TimeError."""
+    """Read one file; return (X, rows, frames) or raise FileError / TimeError.
+
+    A workbook may give several tables (a sheet per loop): their loops are stacked,
+    NaN-padded at the end to the longest, and a sheet that cannot be read gets its own
+    error row instead of failing the others.
+    """
     if path.is_dir():
         raise FileError("is a folder: read it with read_loops or list its files first")
     if not path.exists():
@@ -369,7 +374,30 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
     kind, why = file_kind(path)
     if kind is None:
         raise _Unsupported(why)
-    table = open_table(path, kind, accept=lambda names: _accept(names, channels))
+    tables = open_tables(path, kind, accept=lambda names: _accept(names, channels))
+    if len(tables) == 1:
+        return _read_table(path, tables[0], channels, ts, strict, time_unit, return_frames)
+    parts = []
+    for table in tables:
+        try:
+            parts.append(_read_table(path, table, channels, ts, strict, time_unit,
+                                     return_frames))  # fmt: skip
+        except (FileError, TimeError) as exc:
+            sheet = table.info["sheet"]
+            row = {"tag": str(sheet), "n_samples": 0, "status": STATUS_ERROR,
+                   "reason": f"sheet {sheet!r}: {exc}"}  # fmt: skip
+            parts.append((np.full((1, 0, 3), np.nan), [row], [None]))
+    m = max(X.shape[1] for X, _, _ in parts)
+    X = np.full((sum(X.shape[0] for X, _, _ in parts), m, 3), np.nan)
+    i = 0
+    for part, _, _ in parts:
+        X[i : i + len(part), : part.shape[1]] = part
+        i += len(part)
+    return X, [r for _, rows, _ in parts for r in rows], [f for *_, fr in parts for f in fr]
+
+
+def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
+    """:func:`_read_file` of one table of ``path``."""
     long = None
     if not _plans(table.names, channels):
         long = long_columns(table.names, _is_time, channels)
@@ -450,7 +478,10 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
     del values
     rows, frames = [], []
     for j, (prefix, g) in enumerate(loops):
-        tag = prefix or (info["tag"] if len(loops) == 1 and info["tag"] else path.stem)
+        # one loop without a tag prefix: the file's tag, else its sheet's name when the
+        # workbook has several, else the file's name
+        own = info["tag"] or info.get("sheet")
+        tag = prefix or (own if len(loops) == 1 and own else path.stem)
         if info["format"] == "historian" and len(loops) == 1 and info["tag"]:
             tag = info["tag"]
         reason = notes + loop_notes[j]
@@ -580,7 +611,9 @@ def read_loop_file(
         One file. Historian exports (first line ``PROCESSDATA``, columns
         ``<tag>.MV/.PV/.SV/.MODE``), delimited text with a header row (``,``, ``;``, tab or
         ``|``; decimal comma; comment or title lines before the header; UTF-8, UTF-16,
-        GB18030 or latin-1), ``.xlsx`` (needs openpyxl) and ``.parquet`` (needs pyarrow).
+        GB18030 or latin-1), ``.xlsx`` (needs openpyxl; every sheet with loop columns,
+        a sheet without a tag prefix named after its sheet) and ``.parquet`` (needs
+        pyarrow).
         Long tables (a tag, a time and a value column, optionally a parameter such as
         ``PV`` beside the tag and a quality column) are pivoted to one column per tag
         (``tag`` or ``tag.parameter``); tags recorded at their own times are interpolated

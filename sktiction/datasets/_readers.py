@@ -11,8 +11,8 @@ Layouts:
   row and a units row after it are skipped and noted; an Excel ``sep=;`` line is obeyed.
   Encodings: UTF-8 (with or without BOM), UTF-16 (BOM or not), GB18030 (Chinese
   historian descriptions), else latin-1.
-* **Excel workbook** (``.xlsx``, needs openpyxl): the first sheet holding data; title rows
-  above the header are skipped.
+* **Excel workbook** (``.xlsx``, needs openpyxl): every sheet holding loop columns (else
+  the first holding data); title rows above the header are skipped.
 * **Parquet** (``.parquet``, needs pyarrow): columns as stored.
 
 Any of them may hold a long table (a row per tag and time): :mod:`._long` pivots it.
@@ -31,7 +31,7 @@ import pandas as pd
 
 from ._timestamps import count
 
-__all__ = ["FileError", "file_kind", "open_table"]
+__all__ = ["FileError", "file_kind", "open_table", "open_tables"]
 
 TEXT_SUFFIXES = (".txt", ".csv", ".tsv")
 SUFFIXES = {
@@ -332,6 +332,9 @@ def _sheet_table(frame):
 
 
 def _open_xlsx(path, accept=None):
+    """Every sheet of a workbook that ``accept`` takes (a sheet per loop is a common way
+    to gather loops), else the first sheet holding data, whose columns then say what is
+    missing. With several, each table's ``info["sheet"]`` names its sheet."""
     try:
         import openpyxl  # noqa: F401
     except ImportError as exc:
@@ -340,9 +343,7 @@ def _open_xlsx(path, accept=None):
         book = pd.ExcelFile(path, engine="openpyxl")
     except Exception as exc:  # zip or XML errors: the message is all we can pass on
         raise FileError(f"not a readable Excel workbook ({type(exc).__name__}: {exc})") from exc
-    # the first sheet holding data whose columns ``accept`` takes (the loop's, not a cover
-    # sheet's); else the first holding data, whose columns then say what is missing
-    first = chosen = None
+    first, chosen = None, []
     with book:
         for name in book.sheet_names:
             frame = pd.read_excel(book, sheet_name=name, header=None, dtype=object)
@@ -352,27 +353,35 @@ def _open_xlsx(path, accept=None):
             try:
                 table = (name, *_sheet_table(frame))
             except FileError:
-                if first is None:
-                    first = (name, None, None, None)
+                first = first or (name, None, None, None)
                 continue
             first = first or table
-            if accept is None or accept(table[1]):
-                chosen = table
-                break
+            if accept is not None and accept(table[1]):
+                chosen.append(table)
     if first is None:
         raise FileError("workbook holds no data")
-    sheet, names, body, header = chosen or first
-    if names is None:
+    sheets = chosen or [first]
+    if sheets[0][1] is None:
         raise FileError("no header row (a row of column names) in the first 50 rows")
-    notes = []
-    if len(book.sheet_names) > 1:
-        which = " (the first with loop columns)" if chosen and chosen is not first else ""
-        notes.append(f"workbook has {len(book.sheet_names)} sheets: read {sheet!r}{which} only")
-    if header:
-        notes.append(f"{count(header, 'row')} above the header skipped")
-    info = {"format": "xlsx", "tag": None, "time_format": None, "declared_rows": None}
-    info["notes"] = notes
-    return Table(names, info, lambda positions: body[positions].copy())
+    n_sheets = len(book.sheet_names)
+    read = ", ".join(repr(sheet) for sheet, *_ in sheets)
+    which = ""
+    if len(chosen) > 1:
+        which = " (those with loop columns)"
+    elif chosen and chosen[0] is not first:
+        which = " (the one with loop columns)"
+    tables = []
+    for sheet, names, body, header in sheets:
+        notes = [f"sheet {sheet!r}"] if len(sheets) > 1 else []
+        if n_sheets > len(sheets):
+            notes.append(f"workbook has {n_sheets} sheets: read {read}{which} only")
+        if header:
+            notes.append(f"{count(header, 'row')} above the header skipped")
+        # the sheet names its loop only when the workbook gives several tables
+        info = {"format": "xlsx", "tag": None, "time_format": None, "declared_rows": None,
+                "sheet": sheet if len(sheets) > 1 else None, "notes": notes}  # fmt: skip
+        tables.append(Table(names, info, lambda positions, body=body: body[positions].copy()))
+    return tables
 
 
 def _open_parquet(path):
@@ -420,12 +429,18 @@ def _parquet_index(schema, names):
     return names, [f"index {', '.join(read)} read as a column"]
 
 
-def open_table(path, kind, accept=None):
-    """Open ``path`` as a :class:`Table` of the given kind (from :func:`file_kind`).
+def open_tables(path, kind, accept=None):
+    """Open ``path`` as a list of :class:`Table` of the given kind (from :func:`file_kind`).
 
-    ``accept(names)`` says whether a workbook sheet's columns will do (a workbook is read
-    from the first sheet it accepts); text and Parquet files have one table only.
+    ``accept(names)`` says whether a workbook sheet's columns will do: a workbook gives
+    every sheet it accepts (else its first sheet holding data); text and Parquet files
+    have one table only.
     """
     if kind == "xlsx":
         return _open_xlsx(Path(path), accept)
-    return {"text": _open_text, "parquet": _open_parquet}[kind](Path(path))
+    return [{"text": _open_text, "parquet": _open_parquet}[kind](Path(path))]
+
+
+def open_table(path, kind, accept=None):
+    """The first table of :func:`open_tables`."""
+    return open_tables(path, kind, accept)[0]
