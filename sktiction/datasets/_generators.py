@@ -31,6 +31,7 @@ from ..simulation import (
     SinusoidalDisturbance,
     SquareDisturbance,
     WhiteNoise,
+    foptd_approximation,
     make_valve,
 )
 from ..simulation._threads import single_blas_thread
@@ -168,8 +169,8 @@ def _plant_for(order, lam_target, time_constant, gain):
         lag = T
         delay = lam_target * T
         return IntegratingPlant(gain / T, delay=delay, time_constant=lag), np.nan
-    probe = NthOrderLag(1.0, T, 0.0, order=order)
-    _, tau, h = probe.foptd()
+    # the delay-free plant's apparent delay and time constant (``NthOrderLag.foptd``)
+    h, tau = foptd_approximation(int(order), float(T), 0.0)
     # a little pure delay always, so the loop has a phase crossover
     delay = max(lam_target * tau - h, 0.02 * T)
     if order == 1:
