@@ -1,4 +1,4 @@
-"""Two historian artefacts a scan undoes before it analyses a loop.
+"""Three historian artefacts a scan undoes before it analyses a loop.
 
 - **Spikes**: one to three samples far from both neighbours, which agree with each other
   (a "Bad" value written as 0 or -9999, a transmitter glitch). A single one wrecks every
@@ -8,6 +8,10 @@
 - **Regular holds**: every value written k times because the export grid is k times finer
   than the historian's storage interval. The record then looks like a valve that sticks
   for k - 1 samples out of k; read every k-th row, it is the loop as stored.
+- **Placeholders**: a stretch of "no data" written as a number (-9999, 1e30, 3.4e38)
+  instead of text. Longer than a spike, it is a step out and back that no statistic
+  survives (20 rows of -9999 in PV and OP turned a sticky loop at p 1.0 into "outside the
+  model's domain"). It is read as a gap, which gap repair then bridges or leaves out.
 """
 
 from __future__ import annotations
@@ -24,6 +28,15 @@ _QUIET = MAX_SPIKE_WIDTH + 1
 #: Largest share of a record that may be spikes (at least 3 samples): beyond it the signal
 #: itself jumps (pulses, a fast cycle), and nothing is removed.
 MAX_SPIKE_SHARE = 0.01
+#: Beyond any process quantity in any unit: a placeholder wherever it stands.
+IMPLAUSIBLE = 1e20
+#: A placeholder cluster lies this many times the range of the other values away from
+#: them; a real excursion passes through values in between, so it never leaves such a gap.
+_PLACEHOLDER_GAP = 10.0
+#: Most distinct values a placeholder cluster holds (a historian writes one or two codes).
+_PLACEHOLDER_VALUES = 2
+#: Largest share of a record read as placeholders: beyond it they are the loop's data.
+MAX_PLACEHOLDER_SHARE = 0.2
 #: Fewest value changes from which a hold grid is believed (a chance alignment of 20
 #: changes on one phase of 2 has probability 2e-6).
 MIN_HOLD_CHANGES = 20
@@ -111,6 +124,81 @@ def remove_spikes(loop, n):
         if mask.any():
             keep = ~mask & np.isfinite(x)
             x[mask] = np.interp(t[mask], t[keep], x[keep])
+            count += int(mask.sum())
+    return count
+
+
+def placeholder_mask(x):
+    """Samples of ``x`` (1-D) that hold a placeholder for missing data: beyond
+    :data:`IMPLAUSIBLE`, or one or two distinct values at either end of the value range
+    that stand apart from all the others by more than :data:`_PLACEHOLDER_GAP` times the
+    others' range, on at most :data:`MAX_PLACEHOLDER_SHARE` of the record.
+
+    A setpoint, which jumps between constant levels, is never a placeholder this way (its
+    other values have no range); an OP saturated at 0 or 100 % stays within a few ranges of
+    its working values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction._cleaning import placeholder_mask
+    >>> x = 50 + np.sin(np.arange(300) / 10.0)
+    >>> x[100:120] = -9999.0                             # an outage written as a number
+    >>> np.flatnonzero(placeholder_mask(x))[[0, -1]].tolist()
+    [100, 119]
+    >>> moved = x.copy()
+    >>> moved[100:120] = 80 + np.sin(np.arange(20))     # a real move: values, not a code
+    >>> int(placeholder_mask(moved).sum())
+    0
+    """
+    x = np.asarray(x, dtype=float)
+    with np.errstate(invalid="ignore"):
+        mask = np.abs(x) > IMPLAUSIBLE
+    y = x[np.isfinite(x) & ~mask]
+    if y.size < 4:
+        return mask
+    # Most records end here: the others' range holds the middle 60 % (placeholders take at
+    # most a fifth), and a placeholder's gap is within the whole range.
+    lo, hi = fast_percentile(y, [20, 80])
+    if hi > lo and np.ptp(y) <= _PLACEHOLDER_GAP * (hi - lo):
+        return mask
+    values, counts = np.unique(y, return_counts=True)
+    lo, hi = 0, values.size  # the others: values[lo:hi]
+    budget = MAX_PLACEHOLDER_SHARE * counts.sum()
+    for _ in range(2):  # a code at each end, each judged against the values left
+        k = _apart(values[lo:hi], counts[lo:hi], budget, top=True)
+        budget, hi = budget - counts[hi - k : hi].sum(), hi - k
+        k = _apart(values[lo:hi], counts[lo:hi], budget, top=False)
+        budget, lo = budget - counts[lo : lo + k].sum(), lo + k
+    if lo > 0:
+        mask |= x <= values[lo - 1]
+    if hi < values.size:
+        mask |= x >= values[hi]
+    return mask
+
+
+def _apart(values, counts, budget, top):
+    """How many of the sorted distinct ``values`` at their top (or bottom) end stand apart
+    from the rest as a placeholder cluster (0 if none); ``counts`` are their samples."""
+    for k in range(1, _PLACEHOLDER_VALUES + 1):
+        if values.size - k < 3:
+            return 0
+        rest = values[: values.size - k] if top else values[k:]
+        gap = values[-k] - rest[-1] if top else rest[0] - values[k - 1]
+        n = counts[-k:].sum() if top else counts[:k].sum()
+        if gap > _PLACEHOLDER_GAP * (rest[-1] - rest[0]) and n <= budget:
+            return k
+    return 0
+
+
+def remove_placeholders(loop, n):
+    """Set the placeholders (:func:`placeholder_mask`) of each channel of one loop (first
+    ``n`` samples) to NaN, in place; returns how many samples were set."""
+    count = 0
+    for c in range(loop.shape[1]):
+        mask = placeholder_mask(loop[:n, c])
+        if mask.any():
+            loop[:n, c][mask] = np.nan
             count += int(mask.sum())
     return count
 

@@ -84,7 +84,8 @@ def _read(path, channels, ts, max_gap):
 
 def _note_repairs(row):
     """Say in the loop's input notes what the scan changed before analysing it: a hold
-    undone (and the sample time it implies), spikes replaced, a stretch left out."""
+    undone (and the sample time it implies), spikes replaced, placeholders read as gaps, a
+    stretch left out."""
     step, spikes = row["rows_per_value"], row["n_spikes"]
     start, stop, n = row["kept_start"], row["kept_stop"], row.get("n_samples", np.nan)
     notes = [row["reason"]] if row.get("reason") else []
@@ -95,6 +96,11 @@ def _note_repairs(row):
     if spikes > 0:
         notes.append(f"{spikes:.0f} spike sample{'s' if spikes > 1 else ''} (far from both "
                      "neighbours) replaced by a line between them")
+    placeholders = row["n_placeholders"]
+    if placeholders > 0:
+        notes.append(f"{placeholders:.0f} sample{'s' if placeholders > 1 else ''} holding a "
+                     "placeholder for missing data (a value far outside the others', such as "
+                     "-9999) read as gaps")
     if np.isfinite(start) and (start > 0 or stop < n):
         notes.append(f"analysed rows {start + 1:.0f}-{stop:.0f} of {n:.0f}: the longest "
                      "stretch between gaps too long to bridge")

@@ -17,7 +17,7 @@ import pandas as pd
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.pipeline import FeatureUnion, Pipeline
 
-from .._cleaning import hold_step, remove_spikes
+from .._cleaning import hold_step, remove_placeholders, remove_spikes
 from .._validation import (
     STATUS_OK,
     check_loops,
@@ -49,9 +49,11 @@ REPORT_COLUMNS = [
 ]
 #: What input repair (:func:`repaired`) reports per loop: gap repair's
 #: (:func:`~sktiction._validation.repair_gaps`; ``kept_start``, ``kept_stop`` index the
-#: input's rows), spike samples replaced and rows per stored value (a regular hold undone).
+#: input's rows), spike samples replaced, rows per stored value (a regular hold undone)
+#: and placeholder samples read as gaps.
 GAP_COLUMNS = (
     "n_bridged", "n_gaps_split", "kept_start", "kept_stop", "n_spikes", "rows_per_value",
+    "n_placeholders",
 )  # fmt: skip
 #: Probability from which the learned classifier's verdict is "stiction".
 STICTION_THRESHOLD = 0.5
@@ -427,10 +429,11 @@ def _gap_free(X):
 
 
 def _undo_artefacts(loops, idx, lengths):
-    """Undo regular holds and remove spikes (:mod:`sktiction._cleaning`) of loops ``idx``
-    (of ``lengths`` samples), in place. Returns rows per value, the hold grid's phase and
-    spike samples per loop."""
-    out = np.zeros((len(idx), 3), dtype=int)
+    """Undo regular holds, remove spikes and read placeholders as gaps
+    (:mod:`sktiction._cleaning`) in loops ``idx`` (of ``lengths`` samples), in place.
+    Returns rows per value, the hold grid's phase, spike and placeholder samples per loop.
+    Spikes go first: a lone -9999 is a spike, replaced by a line, not a gap."""
+    out = np.zeros((len(idx), 4), dtype=int)
     for j, (i, n) in enumerate(zip(idx, lengths)):
         step, phase = hold_step(loops[i], n)
         if step > 1:  # each value written ``step`` times: read the rows as stored
@@ -438,7 +441,8 @@ def _undo_artefacts(loops, idx, lengths):
             loops[i] = np.nan
             loops[i, : len(rows)] = rows
             n = len(rows)
-        out[j] = step, phase, remove_spikes(loops[i], n)
+        spikes = remove_spikes(loops[i], n)
+        out[j] = step, phase, spikes, remove_placeholders(loops[i], n)
     return out
 
 
@@ -449,7 +453,8 @@ def repaired(loops, max_gap, usable=None):
     1. a regular hold (every value on ``k`` rows: an export grid finer than the stored
        data) is read every ``k``-th row (the sample time is then ``k`` times longer);
     2. spikes (1-3 samples far from both neighbours) are replaced by a straight line;
-    3. short gaps are bridged and the longest stretch kept
+    3. placeholders for missing data written as numbers (-9999 for a stretch) become gaps;
+    4. short gaps are bridged and the longest stretch kept
        (:func:`~sktiction._validation.repair_gaps`).
 
     Loops that hold inf (they get not_finite) or are not ``usable`` are left as they are;
@@ -465,7 +470,7 @@ def repaired(loops, max_gap, usable=None):
     if not idx.size:
         return loops, gaps
     lengths_in = loop_lengths(loops[idx])
-    step, phase, spikes = _undo_artefacts(loops, idx, lengths_in).T
+    step, phase, spikes, placeholders = _undo_artefacts(loops, idx, lengths_in).T
     lengths = _gap_free(loops[idx])
     if lengths is not None:  # most records: what repair_gaps would say, without its work
         info = {"n_bridged": 0, "n_gaps_split": 0, "kept_start": 0, "kept_stop": lengths}
@@ -480,7 +485,7 @@ def repaired(loops, max_gap, usable=None):
     gaps[idx, 2] = np.where(start > 0, phase + step * start, 0)
     gaps[idx, 3] = np.where(stop > start, np.minimum(phase + step * stop, lengths_in),
                             gaps[idx, 2])
-    gaps[idx, 4], gaps[idx, 5] = spikes, step
+    gaps[idx, 4], gaps[idx, 5], gaps[idx, 6] = spikes, step, placeholders
     return loops, gaps
 
 
@@ -536,9 +541,10 @@ def scan_loops(
         ``None`` repairs nothing: NaN gaps inside a record stay (the loop gets
         ``nan_gap``). ``"auto"`` or a number of samples repairs as :func:`scan_files`
         does (:func:`repaired`): a regular hold is read one row in k, spikes are
-        replaced, short gaps bridged and the longest stretch kept; the report then has
-        ``n_bridged``, ``n_gaps_split``, ``kept_start``, ``kept_stop`` (input rows),
-        ``n_spikes`` and ``rows_per_value``, and a ``ts`` column from ``meta`` is the
+        replaced, placeholders (-9999 for a stretch) read as gaps, short gaps bridged and
+        the longest stretch kept; the report then has ``n_bridged``, ``n_gaps_split``,
+        ``kept_start``, ``kept_stop`` (input rows), ``n_spikes``, ``rows_per_value`` and
+        ``n_placeholders``, and a ``ts`` column from ``meta`` is the
         sample time of the rows read. E.g. for loops read with
         :func:`~sktiction.datasets.read_loops`, whose missing values are gaps.
 
