@@ -196,7 +196,7 @@ def _is_report(path):
 def _console_table(report):
     """File, tag, reader status, verdict and one reason per row, for people."""
     table = pd.DataFrame(index=report.index)
-    table["file"] = report["file"] if "file" in report else ""
+    table["file"] = _file_labels(report) if "file" in report else ""
     table["tag"] = report["tag"].fillna("").astype(str) if "tag" in report else ""
     table["read"] = _read_status(report)
     for col in TABLE_COLUMNS[3:-1]:
@@ -216,6 +216,22 @@ def _console_table(report):
                                   "stiction_size_mean": "size_%",
                                   "stiction_band_fit": "band_%"})
     return table
+
+
+def _file_labels(report):
+    """File names, or where two files share a name (``unit1/FIC1.csv``, ``unit2/FIC1.csv``)
+    their paths below the folder all files share."""
+    names = report["file"].fillna("").astype(str)
+    if "path" not in report or not names[names != ""].duplicated().any():
+        return names
+    paths = report["path"].fillna("").astype(str)
+    known = paths[paths != ""]
+    try:
+        root = os.path.commonpath([os.path.dirname(os.path.abspath(p)) for p in known])
+    except ValueError:  # paths on different drives: nothing in common to leave out
+        return paths.where(paths != "", names)
+    rel = known.map(lambda p: os.path.relpath(os.path.abspath(p), root))
+    return rel.reindex(names.index).fillna(names)
 
 
 _ARGUMENTS = re.compile(r"channels=\{'(\w+)': \.\.\.\}")

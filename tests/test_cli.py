@@ -109,6 +109,20 @@ def test_files_that_are_not_loops_are_listed_not_failures(quick, folder, tmp_pat
     assert cli.main(["scan", str(folder), "-q"]) == 1
 
 
+def test_files_of_one_name_in_two_folders_are_told_apart_on_the_console(quick, folder,
+                                                                       capsys):
+    (folder / "broken.csv").unlink()
+    name = sorted(p.name for p in folder.iterdir())[0]
+    for unit in ("unit1", "unit2"):
+        (folder / unit).mkdir()
+        shutil.copy(folder / name, folder / unit / name)
+    assert cli.main(["scan", str(folder / "unit1"), str(folder / "unit2"), "-q"]) == 0
+    out = capsys.readouterr().out
+    assert f"unit1/{name}" in out and f"unit2/{name}" in out
+    assert cli.main(["scan", str(folder / "unit1"), "-q"]) == 0  # one folder: names alone
+    assert "unit1/" not in capsys.readouterr().out
+
+
 def test_a_report_written_into_the_scanned_folder_is_not_a_failure_next_time(quick, folder,
                                                                              capsys):
     (folder / "broken.csv").unlink()
