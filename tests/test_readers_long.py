@@ -62,20 +62,24 @@ def _recorded(seed=0, n=600, ts=5.0):
     return t, records, pd.concat(rows, ignore_index=True)
 
 
-def test_own_times_interpolated_between_each_tags_records(tmp_path):
+def _hold(grid, t, v):
+    """The last record at or before each grid time."""
+    return v[np.searchsorted(t, grid, side="right") - 1]
+
+
+def test_own_times_held_at_each_tags_last_record(tmp_path):
     t, records, rows = _recorded()
     rows.to_csv(tmp_path / "rec.csv", index=False)
     data = read_loop_file(tmp_path / "rec.csv")
     assert data.meta.loc[0, "ts"] == 5.0  # the scan period, not the mean record interval
     assert data.X.shape == (1, len(t), 3)
     for c, name in enumerate(["PV", "OP"]):
-        expected = np.interp(t, *records[name])
-        np.testing.assert_allclose(data.X[0, :, c], expected, rtol=0, atol=1e-12)
+        np.testing.assert_array_equal(data.X[0, :, c], _hold(t, *records[name]))
     reason = data.meta.loc[0, "reason"]
-    assert "interpolated linearly between its records onto a 5 s grid" in reason
+    assert "each held at its last record on a 5 s grid" in reason
 
 
-def test_bad_records_stay_gaps_on_both_sides(tmp_path):
+def test_bad_records_stay_gaps_until_the_next_record(tmp_path):
     t, records, rows = _recorded()
     pv = np.flatnonzero(rows["TagName"] == "TIC5.PV")
     rows.loc[pv[10], "Value"] = "I/O Timeout"
@@ -86,10 +90,9 @@ def test_bad_records_stay_gaps_on_both_sides(tmp_path):
     assert "'I/O Timeout' x1" in reason and "1 value of quality other than good" in reason
     pv_t = records["PV"][0]
     for i in (10, 20):
-        # the grid between the bad record's neighbours is a gap, nothing is bridged over it
-        gap = (t > pv_t[i - 1]) & (t < pv_t[i + 1])
+        gap = (t >= pv_t[i]) & (t < pv_t[i + 1])
         assert np.isnan(data.X[0, gap, 0]).all()
-        assert not np.isnan(data.X[0, t == pv_t[i - 1], 0]).any()
+        assert np.isfinite(data.X[0, (t >= pv_t[i - 1]) & (t < pv_t[i]), 0]).all()
     assert np.isfinite(data.X[0, :, 1]).all()  # OP has no bad record
 
 
@@ -99,7 +102,77 @@ def test_ts_sets_the_grid_of_recorded_tags(tmp_path):
     data = read_loop_file(tmp_path / "rec.csv", ts=15)
     grid = np.arange(0, t[-1] + 1e-9, 15.0)
     assert data.X.shape[1] == grid.size
-    np.testing.assert_allclose(data.X[0, :, 1], np.interp(grid, *records["OP"]), atol=1e-12)
+    np.testing.assert_array_equal(data.X[0, :, 1], _hold(grid, *records["OP"]))
+
+
+def test_compressed_records_keep_the_scan_period_and_look_held(tmp_path):
+    """A deadband keeps a tenth of the scans; records fall on whole seconds: the grid is
+    the 1 s scan, and the record between them is held (the compression check's look), not
+    a straight line (which healthy compressed loops had made look sticky)."""
+    X, _ = make_loops(1, n_samples=2000, random_state=3)
+    x = X[0]
+    stamps = START + pd.to_timedelta(np.arange(2000), unit="s")
+    rows = []
+    for c, name in enumerate(["PV", "OP"]):
+        keep, last = [0], x[0, c]
+        for i in range(1, 2000):
+            if abs(x[i, c] - last) > 1.5 * np.std(x[:, c]):
+                keep.append(i)
+                last = x[i, c]
+        keep = np.unique(keep + [1999])
+        rows.append(pd.DataFrame({"Tag": f"FIC3.{name}", "Timestamp": stamps[keep],
+                                  "Value": x[keep, c]}))  # fmt: skip
+        assert np.diff(keep).min() == 1 and np.median(np.diff(keep)) > 3
+    pd.concat(rows).to_csv(tmp_path / "deadband.csv", index=False)
+    data = read_loop_file(tmp_path / "deadband.csv")
+    assert data.meta.loc[0, "ts"] == 1.0 and data.X.shape[1] == 2000
+    held = np.mean(np.diff(data.X[0, :, 0]) == 0)
+    assert held > 0.5
+
+
+def test_a_stray_early_record_does_not_stretch_the_grid(tmp_path):
+    """A setpoint last written a month earlier (compression: it has not moved since)."""
+    _, _, rows = _wide_and_rows(n=100)
+    rows = rows[rows["Tag"] == "FIC101"]
+    sp = rows[rows["Parameter"] == "SP"].iloc[[0]]
+    sp = sp.assign(Timestamp=str(START - pd.Timedelta(days=30)), Value=42.0)
+    rows = pd.concat([rows[rows["Parameter"] != "SP"], sp])
+    rows.to_csv(tmp_path / "stray.csv", index=False)
+    data = read_loop_file(tmp_path / "stray.csv")
+    assert data.X.shape == (1, 100, 3) and data.meta.loc[0, "start"] == START
+    assert (data.X[0, :, 2] == 42.0).all()  # held from its record
+    assert "at least half of the tags have records for" in data.meta.loc[0, "reason"]
+
+
+def test_mode_tags_quality_codes_and_odd_time_names(tmp_path):
+    _, _, rows = _wide_and_rows(n=60)
+    rows = rows[rows["Tag"] == "FIC101"].rename(columns={"Timestamp": "TIME_STAMP"})
+    mode = rows[rows["Parameter"] == "PV"].assign(Parameter="MODE", Value="AUTO")
+    mode.iloc[40:, mode.columns.get_loc("Value")] = "MAN"
+    rows = pd.concat([rows, mode]).assign(Quality=192)
+    rows.iloc[5, rows.columns.get_loc("Quality")] = 0  # OPC: bad
+    rows.to_csv(tmp_path / "mode.csv", index=False)
+    data = read_loop_file(tmp_path / "mode.csv")
+    meta = data.meta.loc[0]
+    assert meta["status"] == "ok" and meta["auto_fraction"] == pytest.approx(40 / 60)
+    assert "20 rows in manual mode" in meta["reason"]
+    assert "1 value of quality other than good" in meta["reason"]
+    assert np.isnan(data.X[0, 5, 0]) and np.isfinite(data.X[0, :5, 0]).all()
+
+
+def test_naive_local_time_over_the_autumn_clock_change(tmp_path):
+    """Each tag's rows are in time order: the repeated hour is read as in a wide file."""
+    t = pd.date_range("2025-10-26 01:30", periods=40, freq="5min")  # UTC-free local clock
+    local = t.where(t < pd.Timestamp("2025-10-26 03:00"), t - pd.Timedelta(hours=1))
+    stamps = local.strftime("%Y-%m-%d %H:%M:%S")
+    rows = pd.concat([pd.DataFrame({"Tag": f"FIC1.{c}", "Timestamp": stamps,
+                                    "Value": np.arange(40.0) + j})
+                      for j, c in enumerate(["PV", "OP"])])  # fmt: skip
+    rows.to_csv(tmp_path / "dst.csv", index=False)
+    data = read_loop_file(tmp_path / "dst.csv")
+    assert data.X.shape == (1, 40, 3)
+    np.testing.assert_array_equal(data.X[0, :, 0], np.arange(40.0))
+    assert "clock set back an hour" in data.meta.loc[0, "reason"]
 
 
 def test_repeated_tag_and_time_keeps_the_last_or_fails_strict(tmp_path):

@@ -2,7 +2,7 @@
 
 Historians and data lakes often export ``tag, time, value`` rows (OSIsoft PI, Aspen IP.21
 ``NAME, IP_TREND_TIME, IP_TREND_VALUE``, Honeywell PHD, Canary, a Parquet table), some with
-a parameter column beside the tag (``FIC101, PV, ...``) and a quality column. Pivoted, the
+a parameter column beside the tag (``FIC101, PV, ...``) and quality columns. Pivoted, the
 tags become column names (``FIC101.PV``) that the wide readers already match.
 
 Two kinds of time axis:
@@ -10,9 +10,15 @@ Two kinds of time axis:
 * **shared**: every tag has a value at every time (an interpolated or sampled export): the
   rows are put side by side and nothing is invented;
 * **each tag's own times** (recorded values: compression or exception reporting writes a
-  tag only when it moved): each tag is interpolated linearly between its own records, as
-  the historian itself reconstructs compressed values, onto a regular grid at the commonest
-  step between records. A record whose value is missing or bad stays a gap on both sides.
+  tag only when it moved): each tag holds its last record until the next, on a regular
+  grid at the scan period. Held, not interpolated: a straight line between sparse records
+  looks like a smooth loop to every feature (healthy compressed loops were called sticky),
+  while held values are what the package's compression check and simulated world know.
+  The grid runs from when at least half of the tags have a record to when at least half
+  still have one, so one stray record a month early does not stretch it.
+
+Times in text are parsed tag by tag: each tag's rows are in time order, so daylight saving
+in naive local time (an hour repeated or skipped) is read as in a wide file.
 """
 
 from __future__ import annotations
@@ -36,8 +42,9 @@ _VALUE = {"value", "val", "values", "_value", "ip_trend_value", "reading", "avg"
           "average", "mean"}  # fmt: skip
 _QUALITY = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qlevel",
             "q", "questionable"}  # fmt: skip
-_TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time"}
+_TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts"}
 _GOOD = ("good", "ok", "valid", "normal")
+_OPC_GOOD = 192  # OPC quality codes: 192-255 good, below uncertain or bad
 _MAX_CELLS = 5e8  # 4 GB of float64: a grid step far below the records' (a stray stamp)
 
 
@@ -48,8 +55,8 @@ def _norm(name):
 def long_columns(names, is_time, channels=None):
     """Positions of the long layout's columns, or None if ``names`` are not one.
 
-    Returns a dict with ``time``, ``tag``, ``value`` (ints), ``parameter`` and
-    ``quality`` (int or None) and ``unused`` (the other positions). ``is_time(name)``
+    Returns a dict with ``time``, ``tag``, ``value`` (ints), ``parameter`` (int or
+    None), ``quality`` and ``unused`` (lists of the other positions). ``is_time(name)``
     says whether a column may hold the time; ``channels["time"]`` names it instead.
     """
     norm = [_norm(n) for n in names]
@@ -69,9 +76,9 @@ def long_columns(names, is_time, channels=None):
         if len(hits) != 1:
             return None
         time = hits[0]
-    found = {"time": time, "tag": tag, "value": value,
-             "parameter": one(_PARAMETER), "quality": one(_QUALITY)}  # fmt: skip
-    used = {v for v in found.values() if v is not None}
+    found = {"time": time, "tag": tag, "value": value, "parameter": one(_PARAMETER),
+             "quality": [i for i, n in enumerate(norm) if n in _QUALITY]}  # fmt: skip
+    used = {time, tag, value, found["parameter"], *found["quality"]} - {None}
     found["unused"] = [i for i in range(len(names)) if i not in used and names[i]]
     return found
 
@@ -84,67 +91,118 @@ def _keys(frame, cols):
     return tag.where(frame[cols["tag"]].notna())
 
 
-def _bad_quality(col):
-    """Rows whose text quality says the value is not good (numeric codes are vendors')."""
+def _bad_quality(col, name):
+    """Rows whose quality says the value is not good, and a note: text other than good
+    (Good, OK, Valid), or OPC codes below 192; other numeric codes are the vendor's own
+    and are not read (the note says so)."""
     if col.dtype.kind in "fiub":
-        return None
+        q = col.to_numpy(dtype=float)
+        finite = q[np.isfinite(q)]
+        codes, counts = np.unique(finite, return_counts=True)
+        if finite.size and codes[np.argmax(counts)] >= _OPC_GOOD and finite.max() <= 255:
+            bad = np.isfinite(q) & (q < _OPC_GOOD)
+            return bad, _quality_note(bad, name)
+        return None, f"quality column {name!r} not used (numeric codes of unknown meaning)"
     text = col.astype(str).str.strip().str.lower()
-    good = text.str.startswith(_GOOD) | col.isna().to_numpy()
-    return ~good.to_numpy()
+    bad = ~(text.str.startswith(_GOOD).to_numpy() | col.isna().to_numpy())
+    return bad, _quality_note(bad, name)
 
 
-def _common_step(t, key):
-    """Commonest positive step between one tag's consecutive records (the scan period:
-    a compressed tag records on consecutive scans while it moves)."""
+def _quality_note(bad, name):
+    n = int(bad.sum())
+    return f"{count(n, 'value')} of quality other than good read as NaN (column {name!r})" * (
+        n > 0
+    )
+
+
+def _scan_step(t, key):
+    """The grid step of tags recorded at their own times: the smallest step between one
+    tag's records when (nearly) all steps are whole multiples of it (a compressed tag
+    writes on some scans only), else the median step (jittered stamps)."""
     steps = []
     for k in np.unique(key):
-        tk = np.unique(t[key == k])
-        steps.append(np.round(np.diff(tk), 3))
+        steps.append(np.round(np.diff(np.unique(t[key == k])), 3))
     steps = np.concatenate(steps)
     steps = steps[steps > 0]
     if steps.size == 0:
         return None
-    values, counts = np.unique(steps, return_counts=True)
-    return float(values[np.argmax(counts)])
+    smallest = steps.min()
+    ratio = steps / smallest
+    if np.mean(np.abs(ratio - np.round(ratio)) <= 0.01 * ratio) >= 0.9:
+        return float(smallest)
+    return float(np.median(steps))
 
 
-def _on_grid(t, v, grid):
-    """One tag's records (sorted, unique times) interpolated onto ``grid``; NaN outside
-    its records' span and next to a missing record."""
-    out = np.interp(grid, t, np.nan_to_num(v))
-    missing = np.interp(grid, t, np.isnan(v).astype(float))
-    out[(missing > 0) | (grid < t[0]) | (grid > t[-1])] = np.nan
-    return out
+def _held(t, v, grid):
+    """One tag's records (sorted, unique times ``t``) on ``grid``: each grid point holds
+    the last record at or before it (NaN before the first; a bad record is NaN until the
+    next)."""
+    i = np.searchsorted(t, grid, side="right") - 1
+    return np.where(i >= 0, v[np.maximum(i, 0)], np.nan)
 
 
-def pivot_long(table, cols, to_numbers, *, ts=None, time_unit="auto", strict=False):
+def _span(t, key, tags):
+    """Grid bounds: from when half the tags have a record to when half still have one."""
+    first = np.array([t[key == k].min() for k in tags])
+    last = np.array([t[key == k].max() for k in tags])
+    half = (len(tags) + 1) // 2
+    return np.sort(first)[half - 1], np.sort(last)[::-1][half - 1]
+
+
+def _times(raw, key, time_unit):
+    """Seconds from the earliest time, its timestamp and notes. Text is parsed per tag
+    (each tag's rows are in time order, which a clock change in naive local time needs)."""
+    text = not (isinstance(raw.dtype, np.dtype) and raw.dtype.kind in "fiuM")
+    if not text or len(np.unique(key.dropna())) < 2:
+        return parse_times(raw, unit=time_unit)
+    ns = np.zeros(len(raw), dtype=np.int64)  # integers: a tag's time equals another's
+    valid = np.zeros(len(raw), dtype=bool)
+    notes = []
+    for idx in key.groupby(key, sort=False).indices.values():
+        t, start, tag_notes = parse_times(raw.iloc[idx], unit=time_unit)
+        if pd.isna(start):
+            return t, start, tag_notes  # times of day: the caller refuses them
+        ok = ~np.isnan(t)
+        ns[idx[ok]] = start.value + np.round(t[ok] * 1e9).astype(np.int64)
+        valid[idx[ok]] = True
+        notes += [n for n in tag_notes if n not in notes]
+    first = ns[valid].min()
+    t = np.where(valid, (ns - first) / 1e9, np.nan)
+    return t, pd.Timestamp(int(first), unit="ns"), notes
+
+
+def pivot_long(table, cols, to_numbers, *, time_name="time", ts=None, time_unit="auto",
+               strict=False):  # fmt: skip
     """The long :class:`Table` ``table`` as a wide one: a time column, one column per tag.
 
-    ``to_numbers(col, name)`` turns the value column into floats and returns
-    ``(values, notes)``; the notes (status text read as NaN, ...) go to the table's.
-    ``ts`` (seconds), when given, is the grid step for tags recorded at their own times.
+    ``to_numbers(col, tag)`` turns one tag's values into floats and returns ``(values,
+    notes)``; the notes (status text read as NaN, ...) go to the table's. The wide time
+    column is named ``time_name``. ``ts`` (seconds), when given, is the grid step for tags
+    recorded at their own times.
     """
-    positions = [cols[k] for k in ("time", "tag", "value", "parameter", "quality")
-                 if cols[k] is not None]  # fmt: skip
+    positions = [cols["time"], cols["tag"], cols["value"], *cols["quality"]]
+    positions += [cols["parameter"]] if cols["parameter"] is not None else []
     frame = table.read(positions)
     info, names = table.info, table.names
     notes = info["notes"]
     key = _keys(frame, cols)
-    values, value_notes = to_numbers(frame[cols["value"]], names[cols["value"]])
-    notes += value_notes
-    if cols["quality"] is not None:
-        bad = _bad_quality(frame[cols["quality"]])
-        if bad is not None and bad.any():
-            values = np.where(bad, np.nan, values)
-            notes.append(f"{count(int(bad.sum()), 'value')} of quality other than good read "
-                         f"as NaN (column {names[cols['quality']]!r})")  # fmt: skip
     try:
-        t, start, time_notes = parse_times(frame[cols["time"]], unit=time_unit)
+        t, start, time_notes = _times(frame[cols["time"]], key, time_unit)
     except TimeError as exc:
         raise FileError(f"long layout: time column {names[cols['time']]!r}: {exc}") from exc
     if any(n.startswith("time of day") for n in time_notes):
         raise FileError("long layout with times of day but no dates: the tags' rows cannot "
                         "be placed against each other; export dates with the times")  # fmt: skip
+    notes += time_notes
+    values = np.full(len(frame), np.nan)
+    for k, idx in key.groupby(key, sort=False).indices.items():
+        values[idx], tag_notes = to_numbers(frame[cols["value"]].iloc[idx], str(k))
+        notes += tag_notes
+    for q in cols["quality"]:
+        bad, note = _bad_quality(frame[q], names[q])
+        if bad is not None:
+            values[bad] = np.nan
+        notes += [note] * bool(note)
     ok = key.notna().to_numpy() & ~np.isnan(t)
     if not ok.all():
         notes.append(f"{count(int((~ok).sum()), 'row')} without a tag or a readable time "
@@ -172,30 +230,38 @@ def pivot_long(table, cols, to_numbers, *, ts=None, time_unit="auto", strict=Fal
         wide = values.reshape(n_tags, times.size).T
         how = "shared times"
     else:
-        step = ts if ts is not None else _common_step(t, key)
-        if step is None:
-            raise FileError("long layout: no tag has two distinct times")
-        if (times[-1] - times[0]) / step * n_tags > _MAX_CELLS:
-            raise FileError(f"long layout: a {step:g} s grid over {times[-1] - times[0]:g} s "
-                            f"for {count(n_tags, 'tag')} is too large; pass ts=")  # fmt: skip
-        grid = times[0] + step * np.arange(int(np.floor((times[-1] - times[0]) / step)) + 1)
-        wide = np.empty((grid.size, n_tags))
-        for j, k in enumerate(tags):
-            sel = key == k
-            wide[:, j] = _on_grid(t[sel], values[sel], grid)
-        why = "ts" if ts is not None else "the commonest step between records"
-        how = (f"tags recorded at their own times: each interpolated linearly between its "
-               f"records onto a {step:g} s grid ({why})")  # fmt: skip
+        grid, wide, how = _held_grid(t, key, values, tags, ts)
     layout = ", ".join(names[cols[k]] for k in ("tag", "time", "value"))
     notes.append(f"long layout ({layout}): {count(n_tags, 'tag')} pivoted to columns; {how}")
     if cols["unused"]:
         notes.append(f"columns {[names[i] for i in cols['unused']]} not used")
     stamp = (pd.Series(start + pd.to_timedelta(np.round(grid * 1e9).astype(np.int64)))
              if pd.notna(start) else pd.Series(grid))  # fmt: skip
-    wide_names = [names[cols["time"]]] + [str(k) for k in tags]
+    wide_names = [time_name] + [str(k) for k in tags]
     columns = {0: stamp, **{j + 1: wide[:, j] for j in range(n_tags)}}
 
     def reader(positions):
         return pd.DataFrame({p: columns[p] for p in positions})
 
     return Table(wide_names, info, reader)
+
+
+def _held_grid(t, key, values, tags, ts):
+    """Tags recorded at their own times on one regular grid: ``(grid, wide, note)``."""
+    step = ts if ts is not None else _scan_step(t, key)
+    if step is None:
+        raise FileError("long layout: no tag has two distinct times")
+    lo, hi = _span(t, key, tags)
+    if (hi - lo) / step * len(tags) > _MAX_CELLS:
+        raise FileError(f"long layout: a {step:g} s grid over {hi - lo:g} s for "
+                        f"{count(len(tags), 'tag')} is too large; pass ts=")  # fmt: skip
+    grid = lo + step * np.arange(int(np.floor((hi - lo) / step + 1e-9)) + 1)
+    wide = np.column_stack([_held(t[key == k], values[key == k], grid) for k in tags])
+    why = "ts" if ts is not None else "the scan period the records fall on"
+    held = 1.0 - np.isin(np.round(grid, 3), np.round(t, 3)).mean()
+    note = (f"tags recorded at their own times: each held at its last record on a {step:g} s "
+            f"grid ({why}; {held:.0%} of the grid's rows without a record of any tag)")
+    if np.min(t) < lo or np.max(t) > hi:
+        note += ("; the grid spans the times at least half of the tags have records for "
+                 f"({hi - lo:g} s of {np.ptp(t):g} s)")
+    return grid, wide, note

@@ -384,8 +384,8 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
                                      return_frames))  # fmt: skip
         except (FileError, TimeError) as exc:
             sheet = table.info["sheet"]
-            row = {"tag": str(sheet), "n_samples": 0, "status": STATUS_ERROR,
-                   "reason": f"sheet {sheet!r}: {exc}"}  # fmt: skip
+            row = {"format": table.info["format"], "tag": str(sheet), "n_samples": 0,
+                   "status": STATUS_ERROR, "reason": f"sheet {sheet!r}: {exc}"}  # fmt: skip
             parts.append((np.full((1, 0, 3), np.nan), [row], [None]))
     m = max(X.shape[1] for X, _, _ in parts)
     X = np.full((sum(X.shape[0] for X, _, _ in parts), m, 3), np.nan)
@@ -404,12 +404,20 @@ def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
         if long is not None:
             decimal = "," if "decimal comma" in table.info["notes"] else "."
 
-            def to_numbers(col, name):
-                values, counts, note = _numeric(col, name, decimal, strict)
-                return values, [note] * bool(note) + [_status_note(counts, name)] * bool(counts)
+            def to_numbers(col, tag):
+                if channel_key(tag) == "mode":
+                    return _mode(col), []
+                values, counts, note = _numeric(col, tag, decimal, strict)
+                return values, [note] * bool(note) + [_status_note(counts, tag)] * bool(counts)
 
-            table = pivot_long(table, long, to_numbers, ts=ts, time_unit=time_unit,
-                               strict=strict)  # fmt: skip
+            # the wide time column keeps its name where the wide readers know it (a unit
+            # in it, "time [ms]", scales relative times), else it is "time"
+            original = table.names[long["time"]]
+            time_name = original if channel_key(original) == "time" else "time"
+            table = pivot_long(table, long, to_numbers, time_name=time_name, ts=ts,
+                               time_unit=time_unit, strict=strict)  # fmt: skip
+            if channels and "time" in channels:
+                channels = {**channels, "time": time_name}
     info, names = table.info, table.names
     try:
         time_pos, loops, notes = _plan(names, channels)
@@ -616,8 +624,8 @@ def read_loop_file(
         pyarrow).
         Long tables (a tag, a time and a value column, optionally a parameter such as
         ``PV`` beside the tag and a quality column) are pivoted to one column per tag
-        (``tag`` or ``tag.parameter``); tags recorded at their own times are interpolated
-        between their records onto the commonest step between records (or ``ts``).
+        (``tag`` or ``tag.parameter``); tags recorded at their own times hold their last
+        record on a grid at the scan period their records fall on (or ``ts``).
     channels : dict or None, default=None
         Column names to use instead of the automatic match, keyed by ``"pv"``, ``"op"``,
         ``"sp"``, ``"time"``, ``"mode"``, e.g. ``{"pv": "FIC101.PV", "op": "FIC101.OP"}``;
