@@ -257,3 +257,31 @@ def test_a_workbook_with_a_sheet_per_loop_gives_every_loop(tmp_path):
         "columns) only"
     )
     assert meta.loc[2, "reason"].startswith("sheet 'bad': ")
+
+
+def test_relative_seconds_odd_names_unused_columns_and_rows_without_a_tag(tmp_path):
+    """Numeric times from 0 (no date), a time column named by ``channels``, a unit
+    column left out with a note, rows without a tag or time skipped and counted."""
+    rows = pd.DataFrame({"Tag Name": ["A.PV", "A.OP"] * 50 + [None, "A.PV"],
+                         "When": list(np.repeat(np.arange(50) * 2.0, 2)) + [200.0, "soon"],
+                         "Value": np.arange(102.0), "Units": "%"})  # fmt: skip
+    rows.to_csv(tmp_path / "rel.csv", index=False)
+    assert read_loop_file(tmp_path / "rel.csv").meta.loc[0, "status"] == "error"  # no time
+    data = read_loop_file(tmp_path / "rel.csv", channels={"time": "When"})
+    meta = data.meta.loc[0]
+    assert meta["status"] == "ok" and meta["ts"] == 2.0 and pd.isna(meta["start"])
+    np.testing.assert_array_equal(data.X[0, :, 0], np.arange(0.0, 100, 2))
+    np.testing.assert_array_equal(data.X[0, :, 1], np.arange(1.0, 100, 2))
+    assert "2 rows without a tag or a readable time skipped" in meta["reason"]
+    assert "columns ['Units'] not used" in meta["reason"]
+
+
+def test_a_grid_too_fine_for_its_span_is_refused_with_advice(tmp_path):
+    """Records 1 ms apart once and a year apart otherwise, in every tag."""
+    t = np.r_[0.0, 0.001, 3.15e7]
+    rows = pd.concat([pd.DataFrame({"Tag": f"A.{c}", "Time": t + j * 0.0005, "Value": t})
+                      for j, c in enumerate(["PV", "OP"])])  # fmt: skip
+    rows.to_csv(tmp_path / "sparse.csv", index=False)
+    meta = read_loop_file(tmp_path / "sparse.csv").meta.loc[0]
+    assert meta["status"] == "error" and "is too large; pass ts=" in meta["reason"]
+    assert read_loop_file(tmp_path / "sparse.csv", ts=3600).meta.loc[0, "status"] == "ok"

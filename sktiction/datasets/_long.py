@@ -44,6 +44,8 @@ _QUALITY = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qle
             "q", "questionable"}  # fmt: skip
 _TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts"}
 _GOOD = ("good", "ok", "valid", "normal")
+_TIME_OF_DAY = ("long layout with times of day but no dates: the tags' rows cannot be "
+                "placed against each other; export dates with the times")
 _OPC_GOOD = 192  # OPC quality codes: 192-255 good, below uncertain or bad
 _MAX_CELLS = 5e8  # 4 GB of float64: a grid step far below the records' (a stray stamp)
 
@@ -153,6 +155,8 @@ def _times(raw, key, time_unit):
     """Seconds from the earliest time, its timestamp and notes. Text is parsed per tag
     (each tag's rows are in time order, which a clock change in naive local time needs)."""
     text = not (isinstance(raw.dtype, np.dtype) and raw.dtype.kind in "fiuM")
+    if text:  # numbers written as text (a stray word in the column) are numbers
+        text = pd.to_numeric(raw, errors="coerce").notna().mean() <= 0.5
     if not text or len(np.unique(key.dropna())) < 2:
         return parse_times(raw, unit=time_unit)
     ns = np.zeros(len(raw), dtype=np.int64)  # integers: a tag's time equals another's
@@ -160,8 +164,8 @@ def _times(raw, key, time_unit):
     notes = []
     for idx in key.groupby(key, sort=False).indices.values():
         t, start, tag_notes = parse_times(raw.iloc[idx], unit=time_unit)
-        if pd.isna(start):
-            return t, start, tag_notes  # times of day: the caller refuses them
+        if pd.isna(start):  # times of day
+            raise FileError(_TIME_OF_DAY)
         ok = ~np.isnan(t)
         ns[idx[ok]] = start.value + np.round(t[ok] * 1e9).astype(np.int64)
         valid[idx[ok]] = True
@@ -191,8 +195,7 @@ def pivot_long(table, cols, to_numbers, *, time_name="time", ts=None, time_unit=
     except TimeError as exc:
         raise FileError(f"long layout: time column {names[cols['time']]!r}: {exc}") from exc
     if any(n.startswith("time of day") for n in time_notes):
-        raise FileError("long layout with times of day but no dates: the tags' rows cannot "
-                        "be placed against each other; export dates with the times")  # fmt: skip
+        raise FileError(_TIME_OF_DAY)
     notes += time_notes
     values = np.full(len(frame), np.nan)
     for k, idx in key.groupby(key, sort=False).indices.items():
