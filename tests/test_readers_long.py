@@ -285,3 +285,23 @@ def test_a_grid_too_fine_for_its_span_is_refused_with_advice(tmp_path):
     meta = read_loop_file(tmp_path / "sparse.csv").meta.loc[0]
     assert meta["status"] == "error" and "is too large; pass ts=" in meta["reason"]
     assert read_loop_file(tmp_path / "sparse.csv", ts=3600).meta.loc[0, "status"] == "ok"
+
+
+def test_a_time_column_before_each_tag_is_read_as_a_long_export(tmp_path):
+    """PI DataLink's compressed data: each tag with its own times, the shorter padded."""
+    t, records, _ = _recorded()
+    (tp, vp), (to, vo) = records["PV"], records["OP"]
+    n = max(len(tp), len(to))
+
+    def column(x):
+        return pd.Series(x).reindex(range(n))
+
+    stamps = [column((START + pd.to_timedelta(x, unit="s")).astype(str)) for x in (tp, to)]
+    wide = pd.DataFrame({0: stamps[0], 1: column(vp), 2: stamps[1], 3: column(vo)})
+    wide.columns = ["Timestamp", "TIC5.PV", "Timestamp", "TIC5.OP"]
+    wide.to_csv(tmp_path / "datalink.csv", index=False)
+    data = read_loop_file(tmp_path / "datalink.csv")
+    assert data.meta.loc[0, "status"] == "ok" and data.meta.loc[0, "ts"] == 5.0
+    np.testing.assert_array_equal(data.X[0, :, 0], _hold(t, tp, vp))
+    np.testing.assert_array_equal(data.X[0, :, 1], _hold(t, to, vo))
+    assert "a time column before each tag (2 tags)" in data.meta.loc[0, "reason"]

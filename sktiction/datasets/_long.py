@@ -31,7 +31,7 @@ import pandas as pd
 from ._readers import FileError, Table
 from ._timestamps import TimeError, count, parse_times
 
-__all__ = ["long_columns", "pivot_long"]
+__all__ = ["long_columns", "paired_table", "pivot_long"]
 
 _UNIT = re.compile(r"\s*[\[(][^\])]*[\])]$")
 _TAG = {"tag", "tagname", "tag_name", "name", "point", "pointname", "point_name", "item",
@@ -83,6 +83,37 @@ def long_columns(names, is_time, channels=None):
     used = {time, tag, value, found["parameter"], *found["quality"]} - {None}
     found["unused"] = [i for i in range(len(names)) if i not in used and names[i]]
     return found
+
+
+def paired_table(table, is_time):
+    """A wide table whose every tag has its own time column before it (PI DataLink's
+    compressed data: ``Time, FIC1.PV, Time, FIC1.OP``) as a long one, or None.
+
+    Such a file is a long export laid out side by side: each value column is read with the
+    time column nearest to its left, and blank cells below a shorter tag are not records.
+    """
+    names = table.names
+    times = [i for i, n in enumerate(names) if is_time(n)]
+    if len(times) < 2 or times[0] != 0:
+        return None
+    owner = {}
+    for i in range(len(names)):
+        if i not in times and names[i]:
+            owner[i] = max(j for j in times if j < i)
+    if set(owner.values()) != set(times):  # a time column with no tag after it
+        return None
+
+    def reader(positions):
+        frame = table.read(sorted(set(owner) | set(times)))
+        parts = [pd.DataFrame({0: names[i], 1: frame[owner[i]], 2: frame[i]}) for i in owner]
+        long = pd.concat(parts, ignore_index=True)
+        blank = long[1].isna() & long[2].isna()
+        return long.loc[~blank, positions].reset_index(drop=True)
+
+    info = table.info
+    info["notes"].append(f"a time column before each tag ({count(len(owner), 'tag')}): read "
+                         "as a long export")  # fmt: skip
+    return Table(["tag", "time", "value"], info, reader)
 
 
 def _keys(frame, cols):

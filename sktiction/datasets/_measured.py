@@ -29,7 +29,7 @@ import pandas as pd
 from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
-from ._long import long_columns, pivot_long
+from ._long import long_columns, paired_table, pivot_long
 from ._readers import FileError, file_kind, open_tables
 from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
@@ -401,6 +401,10 @@ def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
     long = None
     if not _plans(table.names, channels):
         long = long_columns(table.names, _is_time, channels)
+        if long is None and not channels:
+            paired = paired_table(table, _is_time)
+            if paired is not None:
+                table, long = paired, long_columns(paired.names, _is_time)
         if long is not None:
             decimal = "," if "decimal comma" in table.info["notes"] else "."
 
