@@ -217,6 +217,8 @@ def test_times_of_day_without_dates_are_refused(tmp_path):
         (["time", "FIC1.PV", "FIC1.OP"], None),  # wide
         (["Tag", "Value"], None),  # no time
         (["Tag", "Time", "Date", "Value"], None),  # two times: ask, do not guess
+        (["Element", "Attribute", "Name", "DateTime UTC", "Value", "Average"], (3, 0, 4)),
+        (["NAME", "TS", "VALUE"], (1, 0, 2)),  # IP.21 SQLplus
     ],
 )
 def test_long_columns_found_by_name(names, found):

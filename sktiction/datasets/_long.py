@@ -34,15 +34,18 @@ from ._timestamps import TimeError, count, parse_times
 __all__ = ["long_columns", "paired_table", "pivot_long"]
 
 _UNIT = re.compile(r"\s*[\[(][^\])]*[\])]$")
-_TAG = {"tag", "tagname", "tag_name", "name", "point", "pointname", "point_name", "item",
-        "itemid", "item_id", "itemname", "item_name", "tagpath", "tag_path", "signal",
-        "variable", "series", "sensor"}  # fmt: skip
-_PARAMETER = {"parameter", "param", "attribute", "field", "property"}
-_VALUE = {"value", "val", "values", "_value", "ip_trend_value", "reading", "avg",
-          "average", "mean"}  # fmt: skip
+# Column names of each role, most telling first: with a "Tag" and a "Name" (a description)
+# the tag is "Tag", with a "Value" and an "Average" the value is "Value".
+_TAG = ("tag", "tagname", "tag_name", "tagpath", "tag_path", "pointname", "point_name",
+        "point", "itemid", "item_id", "itemname", "item_name", "item", "element", "name",
+        "signal", "variable", "series", "sensor")  # fmt: skip
+_PARAMETER = ("parameter", "param", "attribute", "field", "property")
+_VALUE = ("value", "ip_trend_value", "_value", "val", "values", "reading", "avg", "average",
+          "mean")  # fmt: skip
 _QUALITY = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qlevel",
             "q", "questionable"}  # fmt: skip
-_TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts"}
+_TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts",
+               "datetime_utc", "timestamp_utc", "time_utc", "zeitstempel", "horodatage"}
 _GOOD = ("good", "ok", "valid", "normal")
 _TIME_OF_DAY = ("long layout with times of day but no dates: the tags' rows cannot be "
                 "placed against each other; export dates with the times")
@@ -64,8 +67,12 @@ def long_columns(names, is_time, channels=None):
     norm = [_norm(n) for n in names]
 
     def one(kinds):
-        hits = [i for i, n in enumerate(norm) if n in kinds]
-        return hits[0] if len(hits) == 1 else None
+        """The column of the most telling name in ``kinds``; None if absent or twice."""
+        for kind in kinds:
+            hits = [i for i, n in enumerate(norm) if n == kind]
+            if hits:
+                return hits[0] if len(hits) == 1 else None
+        return None
 
     tag, value = one(_TAG), one(_VALUE)
     if tag is None or value is None:
