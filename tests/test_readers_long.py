@@ -307,3 +307,17 @@ def test_a_time_column_before_each_tag_is_read_as_a_long_export(tmp_path):
     np.testing.assert_array_equal(data.X[0, :, 0], _hold(t, tp, vp))
     np.testing.assert_array_equal(data.X[0, :, 1], _hold(t, to, vo))
     assert "a time column before each tag (2 tags)" in data.meta.loc[0, "reason"]
+
+
+def test_workbook_time_of_day_cells_are_read_as_a_csv_reads_them(tmp_path):
+    """Excel gives time-only cells as datetime.time; midnight passes are counted."""
+    import datetime
+
+    first = datetime.datetime(2026, 1, 1, 23, 30)
+    times = [(first + datetime.timedelta(seconds=10 * i)).time() for i in range(400)]
+    sheet = pd.DataFrame({"Time": times, "PV": np.sin(np.arange(400) / 5.0),
+                          "OP": np.cos(np.arange(400) / 5.0)})  # fmt: skip
+    sheet.to_excel(tmp_path / "tod.xlsx", index=False)
+    meta = read_loop_file(tmp_path / "tod.xlsx").meta.loc[0]
+    assert (meta["status"], meta["ts"], meta["n_samples"]) == ("ok", 10.0, 400)
+    assert "midnight passes counted" in meta["reason"]

@@ -9,6 +9,7 @@ overridden with ``time_unit``.
 
 from __future__ import annotations
 
+import datetime
 import warnings
 
 import numpy as np
@@ -336,6 +337,10 @@ default="auto"
         if np.isfinite(values).any():
             t, start, note = _numeric_times(values, unit)
             return t, start, [note] if note else []
+    first = raw.dropna().iloc[:1] if raw.dtype == object else ()
+    if len(first) and isinstance(first.iloc[0], datetime.time):
+        # Excel time-of-day cells arrive as datetime.time: read them as a CSV's text
+        raw = raw.map(lambda v: v.isoformat() if isinstance(v, datetime.time) else v)
     if pd.api.types.is_datetime64_any_dtype(raw):
         stamps, notes = pd.Series(raw), []
         if stamps.dt.tz is not None:
