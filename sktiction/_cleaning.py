@@ -131,12 +131,15 @@ def remove_spikes(loop, n):
 def placeholder_mask(x):
     """Samples of ``x`` (1-D) that hold a placeholder for missing data: beyond
     :data:`IMPLAUSIBLE`, or one or two distinct values at either end of the value range
-    that stand apart from all the others by more than :data:`_PLACEHOLDER_GAP` times the
-    others' range, on at most :data:`MAX_PLACEHOLDER_SHARE` of the record.
+    (or both ends) that stand apart from all the others by more than
+    :data:`_PLACEHOLDER_GAP` times the others' range and their distance from zero, on at
+    most :data:`MAX_PLACEHOLDER_SHARE` of the record.
 
-    A setpoint, which jumps between constant levels, is never a placeholder this way (its
-    other values have no range); an OP saturated at 0 or 100 % stays within a few ranges of
-    its working values.
+    Real moves are left alone: a move to a new level passes through values in between or
+    carries noise (many distinct values); a trip to 0 or a saturation at 100 % from working
+    values is within ten times their distance from zero; a setpoint's few levels are too
+    close to each other. Missed by design: a code within ten times a signal's own level
+    (-9999 on a flow of 3,500-6,500 kg/h) and an outage longer than a fifth of the record.
 
     Examples
     --------
@@ -146,9 +149,9 @@ def placeholder_mask(x):
     >>> x[100:120] = -9999.0                             # an outage written as a number
     >>> np.flatnonzero(placeholder_mask(x))[[0, -1]].tolist()
     [100, 119]
-    >>> moved = x.copy()
-    >>> moved[100:120] = 80 + np.sin(np.arange(20))     # a real move: values, not a code
-    >>> int(placeholder_mask(moved).sum())
+    >>> tripped = x.copy()
+    >>> tripped[100:120] = 0.0                           # a trip to 0: a real move
+    >>> int(placeholder_mask(tripped).sum())
     0
     """
     x = np.asarray(x, dtype=float)
@@ -166,32 +169,36 @@ def placeholder_mask(x):
     if inner > 0 and part[-1] - part[0] <= _PLACEHOLDER_GAP * inner:
         return mask
     values, counts = np.unique(y, return_counts=True)
-    lo, hi = 0, values.size  # the others: values[lo:hi]
-    budget = MAX_PLACEHOLDER_SHARE * counts.sum()
-    for _ in range(2):  # a code at each end, each judged against the values left
-        k = _apart(values[lo:hi], counts[lo:hi], budget, top=True)
-        budget, hi = budget - counts[hi - k : hi].sum(), hi - k
-        k = _apart(values[lo:hi], counts[lo:hi], budget, top=False)
-        budget, lo = budget - counts[lo : lo + k].sum(), lo + k
-    if lo > 0:
-        mask |= x <= values[lo - 1]
-    if hi < values.size:
-        mask |= x >= values[hi]
+    low, high = _codes(values, counts, MAX_PLACEHOLDER_SHARE * y.size)
+    if low:
+        mask |= x <= values[low - 1]
+    if high:
+        mask |= x >= values[values.size - high]
     return mask
 
 
-def _apart(values, counts, budget, top):
-    """How many of the sorted distinct ``values`` at their top (or bottom) end stand apart
-    from the rest as a placeholder cluster (0 if none); ``counts`` are their samples."""
-    for k in range(1, _PLACEHOLDER_VALUES + 1):
-        if values.size - k < 3:
-            return 0
-        rest = values[: values.size - k] if top else values[k:]
-        gap = values[-k] - rest[-1] if top else rest[0] - values[k - 1]
-        n = counts[-k:].sum() if top else counts[:k].sum()
-        if gap > _PLACEHOLDER_GAP * (rest[-1] - rest[0]) and n <= budget:
-            return k
-    return 0
+def _codes(values, counts, budget):
+    """``(low, high)``: how many of the sorted distinct ``values`` at the bottom and at the
+    top are placeholder codes (``counts`` samples each, at most ``budget`` in all), each end
+    judged against the values left once both ends' codes are out."""
+    n = values.size
+    cum = np.concatenate([[0], np.cumsum(counts)])  # samples below each distinct value
+    best = (0, 0)
+    for low in range(_PLACEHOLDER_VALUES + 1):
+        for high in range(_PLACEHOLDER_VALUES + 1):
+            if low + high <= sum(best) or n - low - high < 3:
+                continue
+            if cum[low] + cum[n] - cum[n - high] > budget:
+                continue
+            first, last = values[low], values[n - high - 1]  # the others' range
+            middle = (cum[low] + cum[n - high]) // 2  # their median sample
+            level = abs(values[np.searchsorted(cum, middle, side="right") - 1])
+            apart = _PLACEHOLDER_GAP * max(last - first, level)
+            if (low == 0 or first - values[low - 1] > apart) and (
+                high == 0 or values[n - high] - last > apart
+            ):
+                best = (low, high)
+    return best
 
 
 def remove_placeholders(loop, n):

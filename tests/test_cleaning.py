@@ -160,11 +160,20 @@ def test_the_file_scan_says_what_it_repaired_in_the_loops_notes(tmp_path):
 
 @pytest.mark.parametrize("code", [-9999.0, 1e30, 3.4e38, 0.0])
 def test_a_stretch_of_placeholders_is_found_at_either_end_and_nothing_else(code):
+    """-9999 and 1e30 are codes; 0 on a PV of about 100 is within ten times its level
+    (it might be a trip): only the second code, -99999, is then found."""
     x = 100 + _sine(n=2000)  # a PV of about 100: 0 is far below it
     x[500:540] = code
     x[1200:1210] = -99999.0  # a second code, below the first when that is a high one
-    expected = list(range(500, 540)) + list(range(1200, 1210))
+    expected = list(range(500, 540)) * (code != 0.0) + list(range(1200, 1210))
     assert np.flatnonzero(placeholder_mask(x)).tolist() == expected
+
+
+def test_codes_at_both_ends_are_judged_without_each_other():
+    x = 50 + np.sin(np.arange(1000) / 10.0)
+    x[100:120], x[300:320] = 9999.0, -9999.0  # over- and under-range codes
+    assert np.flatnonzero(placeholder_mask(x)).tolist() == list(range(100, 120)) + list(
+        range(300, 320))
 
 
 def test_moves_saturation_setpoints_and_quantised_records_are_not_placeholders():
@@ -182,6 +191,20 @@ def test_moves_saturation_setpoints_and_quantised_records_are_not_placeholders()
     heavy = x.copy()
     heavy[:500] = -9999.0  # a quarter of the record: the loop's data, not a code
     assert not placeholder_mask(heavy).any()
+    rng = np.random.default_rng(2)
+    tripped = 45 + rng.normal(0, 1.5, 1500)
+    tripped[700:706] = 0.0  # an interlock shuts the valve: a real move to 0
+    assert not placeholder_mask(tripped).any()
+    flow = 100 + rng.normal(0, 0.4, 1500)
+    flow[1350:] = 0.0  # a pump trip, the last tenth at the low-flow cut-off
+    assert not placeholder_mask(flow).any()
+    grades = np.r_[np.repeat([99.5, 100.0, 100.5], 425), np.full(225, 120.0)]
+    assert not placeholder_mask(grades).any()  # a grade change of the setpoint
+    levels = np.r_[np.repeat([50.0, 51.0, 52.0], 450), np.full(150, 80.0)]
+    assert not placeholder_mask(levels).any()
+    integer = rng.integers(10, 15, 1500).astype(float)
+    integer[:75] = 100.0  # an integer OP saturated for 5 %
+    assert not placeholder_mask(integer).any()
     X, _ = make_loops(300, n_samples=1000, random_state=8)
     assert not any(placeholder_mask(X[i, :, c]).any() for i in range(300) for c in range(3))
 

@@ -217,8 +217,9 @@ def scan_files(
         Sampling time in seconds for files without a time column.
     max_gap : "auto", int or None, default="auto"
         Longest NaN gap bridged (:func:`~sktiction._validation.repair_gaps`), after a
-        regular hold is read one row in k and spikes are replaced
-        (:func:`~sktiction.reports.scan.repaired`); ``None`` repairs nothing (loops with
+        regular hold is read one row in k, spikes are replaced and placeholders (-9999
+        for a stretch) read as gaps (:func:`~sktiction.reports.scan.repaired`); ``None``
+        repairs nothing (loops with
         gaps then get ``status = "nan_gap"``).
 
     Returns
@@ -227,7 +228,8 @@ def scan_files(
         One row per loop, in file order, reader's columns first (its ``status`` and
         ``reason`` as ``input_status``, ``input_reason``, which also says what was
         repaired; with repair also ``n_bridged``, ``n_gaps_split``, ``kept_start``,
-        ``kept_stop`` (input rows), ``n_spikes`` and ``rows_per_value``, and ``ts`` is
+        ``kept_stop`` (input rows), ``n_spikes``, ``rows_per_value`` and
+        ``n_placeholders``, and ``ts`` is
         the sample time of the rows read), then the
         columns of :func:`scan_loops`. A file that cannot be read, or is not a loop
         file, gets one row with ``status = "unreadable"`` and the reader's reason.
