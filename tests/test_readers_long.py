@@ -233,7 +233,8 @@ def test_long_columns_found_by_name(names, found):
 
 def test_a_workbook_with_a_sheet_per_loop_gives_every_loop(tmp_path):
     """Every sheet with loop columns is read (a sheet per loop is a common way to gather
-    loops); shorter loops are NaN-padded at the end; a bad sheet gets its own error row."""
+    loops); shorter loops are NaN-padded at the end; a sheet that cannot be read is named
+    in the others' reasons, and gets an error row only when no sheet could be read."""
     X, _, _ = _wide_and_rows(n=120)
     path = tmp_path / "unit3.xlsx"
     with pd.ExcelWriter(path) as writer:
@@ -247,18 +248,28 @@ def test_a_workbook_with_a_sheet_per_loop_gives_every_loop(tmp_path):
         bad.to_excel(writer, sheet_name="bad", index=False)
     data = read_loop_file(path)
     meta = data.meta
-    assert meta["tag"].tolist() == ["FIC101", "LIC2", "bad"]
-    assert meta["status"].tolist() == ["ok", "ok", "error"]
-    assert meta["n_samples"].tolist() == [120, 80, 0]
-    assert data.X.shape == (3, 120, 3)
+    assert meta["tag"].tolist() == ["FIC101", "LIC2"]
+    assert meta["status"].tolist() == ["ok", "ok"]
+    assert meta["n_samples"].tolist() == [120, 80]
+    assert data.X.shape == (2, 120, 3)
     np.testing.assert_allclose(data.X[0], X[0], rtol=1e-14)  # Excel keeps 15 digits
     np.testing.assert_allclose(data.X[1, :80], X[1, :80], rtol=1e-14)
-    assert np.isnan(data.X[1, 80:]).all() and np.isnan(data.X[2]).all()
-    assert meta.loc[0, "reason"] == (
-        "sheet 'FIC101'; workbook has 4 sheets: read 'FIC101', 'LIC2', 'bad' (those with loop "
-        "columns) only"
+    assert np.isnan(data.X[1, 80:]).all()
+    assert meta.loc[0, "reason"].startswith(
+        "sheet 'FIC101'; workbook has 4 sheets: read 'FIC101', 'LIC2', 'bad' (those with "
+        "loop columns) only; sheet 'bad' not read: "
     )
-    assert meta.loc[2, "reason"].startswith("sheet 'bad': ")
+    from sktiction.datasets import read_loops
+
+    assert len(read_loops([path]).meta) == 2  # on_error="raise" has nothing to raise
+    only_bad = tmp_path / "bad.xlsx"
+    with pd.ExcelWriter(only_bad) as writer:
+        bad.to_excel(writer, sheet_name="bad", index=False)
+        bad.to_excel(writer, sheet_name="worse", index=False)
+    meta = read_loop_file(only_bad).meta
+    assert meta["status"].tolist() == ["error", "error"]
+    assert meta["format"].tolist() == ["xlsx", "xlsx"]
+    assert meta.loc[1, "reason"].startswith("sheet 'worse': ")
 
 
 def test_relative_seconds_odd_names_unused_columns_and_rows_without_a_tag(tmp_path):

@@ -364,8 +364,8 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
     """Read one file; return (X, rows, frames) or raise FileError / TimeError.
 
     A workbook may give several tables (a sheet per loop): their loops are stacked,
-    NaN-padded at the end to the longest, and a sheet that cannot be read gets its own
-    error row instead of failing the others.
+    NaN-padded at the end to the longest; a sheet that cannot be read is named in the
+    reasons of the loops read (an error row of its own when no sheet could be read).
     """
     if path.is_dir():
         raise FileError("is a folder: read it with read_loops or list its files first")
@@ -377,16 +377,24 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
     tables = open_tables(path, kind, accept=lambda names: _accept(names, channels))
     if len(tables) == 1:
         return _read_table(path, tables[0], channels, ts, strict, time_unit, return_frames)
-    parts = []
+    parts, failed = [], []  # the sheets read, the error rows of the others
     for table in tables:
         try:
             parts.append(_read_table(path, table, channels, ts, strict, time_unit,
                                      return_frames))  # fmt: skip
         except (FileError, TimeError) as exc:
-            sheet = table.info["sheet"]
-            row = {"format": table.info["format"], "tag": str(sheet), "n_samples": 0,
-                   "status": STATUS_ERROR, "reason": f"sheet {sheet!r}: {exc}"}  # fmt: skip
-            parts.append((np.full((1, 0, 3), np.nan), [row], [None]))
+            failed.append((table.info["sheet"], exc))
+    if parts:
+        # a sheet whose columns looked like a loop's but is not one (a tag list, a
+        # snapshot) is no failure of the workbook: the loops read say it was left out
+        left_out = [f"sheet {sheet!r} not read: {exc}" for sheet, exc in failed]
+        for _, rows, _ in parts:
+            for row in rows:
+                row["reason"] = "; ".join(filter(None, [row["reason"], *left_out]))
+    else:
+        parts = [(np.full((1, 0, 3), np.nan), [{
+            "format": "xlsx", "tag": str(sheet), "n_samples": 0, "status": STATUS_ERROR,
+            "reason": f"sheet {sheet!r}: {exc}"}], [None]) for sheet, exc in failed]  # fmt: skip
     m = max(X.shape[1] for X, _, _ in parts)
     X = np.full((sum(X.shape[0] for X, _, _ in parts), m, 3), np.nan)
     i = 0
