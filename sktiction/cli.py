@@ -222,7 +222,10 @@ def _file_labels(report):
     """File names, or where two files share a name (``unit1/FIC1.csv``, ``unit2/FIC1.csv``)
     their paths below the folder all files share."""
     names = report["file"].fillna("").astype(str)
-    if "path" not in report or not names[names != ""].duplicated().any():
+    if "path" not in report:
+        return names
+    files = pd.DataFrame({"name": names, "path": report["path"]}).drop_duplicates("path")
+    if not files.loc[files["name"] != "", "name"].duplicated().any():  # a file's loops
         return names
     paths = report["path"].fillna("").astype(str)
     known = paths[paths != ""]

@@ -332,3 +332,39 @@ def test_workbook_time_of_day_cells_are_read_as_a_csv_reads_them(tmp_path):
     meta = read_loop_file(tmp_path / "tod.xlsx").meta.loc[0]
     assert (meta["status"], meta["ts"], meta["n_samples"]) == ("ok", 10.0, 400)
     assert "midnight passes counted" in meta["reason"]
+
+
+def test_the_grid_survives_a_stray_record_and_tags_agree_on_the_date_order(tmp_path):
+    """A record 1 ms after another does not make a 1 ms grid; a tag with five records
+    (whose dates allow either order) is read in the other tag's month-first order."""
+    t, records, rows = _recorded()
+    extra = rows.iloc[[3]].assign(TimeStamp=rows["TimeStamp"].iloc[3] + pd.Timedelta("1ms"))
+    pd.concat([rows, extra]).to_csv(tmp_path / "stray.csv", index=False)
+    assert read_loop_file(tmp_path / "stray.csv").meta.loc[0, "ts"] == 5.0
+    hours = pd.date_range("2026-01-01", periods=200, freq="h")
+    few = [0, 30, 90, 150, 199]
+    rows = pd.concat([
+        pd.DataFrame({"Tag": "F1.PV", "Time": hours.strftime("%m/%d/%Y %H:%M"),
+                      "Value": np.arange(200.0)}),
+        pd.DataFrame({"Tag": "F1.OP", "Time": hours[few].strftime("%m/%d/%Y %H:%M"),
+                      "Value": np.array(few, dtype=float)}),
+    ])  # fmt: skip
+    rows.to_csv(tmp_path / "dates.csv", index=False)
+    data = read_loop_file(tmp_path / "dates.csv")
+    assert data.X.shape == (1, 200, 3)
+    np.testing.assert_array_equal(data.X[0, few, 1], few)
+
+
+def test_a_questionable_flag_and_a_tag_that_stops_early(tmp_path):
+    t, records, rows = _recorded()
+    rows = rows.drop(columns="Quality").assign(Questionable=False)
+    pv = np.flatnonzero(rows["TagName"] == "TIC5.PV")
+    rows.iloc[pv[10], rows.columns.get_loc("Questionable")] = True
+    early = rows["TimeStamp"] < START + pd.Timedelta("1000s")
+    rows = rows[(rows["TagName"] == "TIC5.PV") | early]  # OP's export cut at 1000 s
+    rows.to_csv(tmp_path / "flags.csv", index=False)
+    data = read_loop_file(tmp_path / "flags.csv")
+    reason = data.meta.loc[0, "reason"]
+    assert "1 value of quality other than good read as NaN (column 'Questionable')" in reason
+    assert np.isnan(data.X[0, t == records["PV"][0][10], 0]).all()
+    assert "TIC5.OP has no record after" in reason

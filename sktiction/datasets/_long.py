@@ -47,6 +47,7 @@ _QUALITY = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qle
 _TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts",
                "datetime_utc", "timestamp_utc", "time_utc", "zeitstempel", "horodatage"}
 _GOOD = ("good", "ok", "valid", "normal")
+_TRUE, _FALSE = ("true", "1", "yes"), ("false", "0", "no")
 _TIME_OF_DAY = ("long layout with times of day but no dates: the tags' rows cannot be "
                 "placed against each other; export dates with the times")
 _OPC_GOOD = 192  # OPC quality codes: 192-255 good, below uncertain or bad
@@ -133,9 +134,14 @@ def _keys(frame, cols):
 
 def _bad_quality(col, name):
     """Rows whose quality says the value is not good, and a note: text other than good
-    (Good, OK, Valid), or OPC codes below 192; other numeric codes are the vendor's own
-    and are not read (the note says so)."""
-    if col.dtype.kind in "fiub":
+    (Good, OK, Valid), True in a column named questionable (PI), or OPC codes below 192;
+    other numeric codes are the vendor's own and are not read (the note says so)."""
+    text = col.astype(str).str.strip().str.lower()
+    if col.dtype.kind == "b" or text.isin(_TRUE + _FALSE + ("nan", "none", "")).all():
+        flag = text.isin(_TRUE).to_numpy()
+        bad = flag if _norm(name) == "questionable" else ~flag & col.notna().to_numpy()
+        return bad, _quality_note(bad, name)
+    if col.dtype.kind in "fiu":
         q = col.to_numpy(dtype=float)
         finite = q[np.isfinite(q)]
         codes, counts = np.unique(finite, return_counts=True)
@@ -143,7 +149,6 @@ def _bad_quality(col, name):
             bad = np.isfinite(q) & (q < _OPC_GOOD)
             return bad, _quality_note(bad, name)
         return None, f"quality column {name!r} not used (numeric codes of unknown meaning)"
-    text = col.astype(str).str.strip().str.lower()
     bad = ~(text.str.startswith(_GOOD).to_numpy() | col.isna().to_numpy())
     return bad, _quality_note(bad, name)
 
@@ -156,20 +161,23 @@ def _quality_note(bad, name):
 
 
 def _scan_step(t, key):
-    """The grid step of tags recorded at their own times: the smallest step between one
-    tag's records when (nearly) all steps are whole multiples of it (a compressed tag
-    writes on some scans only), else the median step (jittered stamps)."""
-    steps = []
-    for k in np.unique(key):
-        steps.append(np.round(np.diff(np.unique(t[key == k])), 3))
-    steps = np.concatenate(steps)
+    """The grid step of tags recorded at their own times: the scan period the records fall
+    on. That is the greatest common divisor of the steps between one tag's records (to the
+    millisecond) when their stamps are exact and it leaves at most 50 grid rows per record;
+    else (jittered stamps, a stray record a millisecond after another) the 5th percentile
+    of the steps when nearly all are close to whole multiples of it, else their median."""
+    steps = np.concatenate([np.diff(np.unique(t[key == k])) for k in np.unique(key)])
     steps = steps[steps > 0]
     if steps.size == 0:
         return None
-    smallest = steps.min()
-    ratio = steps / smallest
-    if np.mean(np.abs(ratio - np.round(ratio)) <= 0.01 * ratio) >= 0.9:
-        return float(smallest)
+    ms = np.round(steps * 1000).astype(np.int64)
+    common = np.gcd.reduce(ms[ms > 0]) / 1000 if (ms > 0).any() else 0.0
+    if common >= 0.01 and np.ptp(t) / common <= 50 * t.size:
+        return float(common)
+    base = float(np.percentile(steps, 5))
+    ratio = steps / base
+    if np.mean(np.abs(ratio - np.round(ratio)) <= 0.1) >= 0.9:
+        return base
     return float(np.median(steps))
 
 
@@ -187,6 +195,14 @@ def _span(t, key, tags):
     last = np.array([t[key == k].max() for k in tags])
     half = (len(tags) + 1) // 2
     return np.sort(first)[half - 1], np.sort(last)[::-1][half - 1]
+
+
+def _day_order(note):
+    """"month" or "day" when a time note says which order dates were read in."""
+    for order in ("month", "day"):
+        if f"read {order} first" in note:
+            return order
+    return None
 
 
 def _times(raw, key, time_unit):
@@ -208,6 +224,10 @@ def _times(raw, key, time_unit):
         ns[idx[ok]] = start.value + np.round(t[ok] * 1e9).astype(np.int64)
         valid[idx[ok]] = True
         notes += [n for n in tag_notes if n not in notes]
+    if len({_day_order(n) for n in notes} - {None}) > 1:
+        # tags read in different day/month orders (a tag with few records allows both):
+        # one order for the whole column, whatever the clock changes
+        return parse_times(raw, unit=time_unit)
     first = ns[valid].min()
     t = np.where(valid, (ns - first) / 1e9, np.nan)
     return t, pd.Timestamp(int(first), unit="ns"), notes
@@ -262,7 +282,7 @@ def pivot_long(table, cols, to_numbers, *, time_name="time", ts=None, time_unit=
                             "more than once")  # fmt: skip
         notes.append(f"{count(int(dup.sum()), 'repeated tag and time')}: kept the last")
         key, t, values = key[~dup], t[~dup], values[~dup]
-    tags = np.unique(key)  # the order of the rows above
+    tags = np.unique(key)  # alphabetical, as the rows are sorted above
     times = np.unique(t)
     n_tags = len(tags)
     if key.size == n_tags * times.size:
@@ -305,4 +325,10 @@ def _held_grid(t, key, values, tags, ts):
     if np.min(t) < lo or np.max(t) > hi:
         note += ("; the grid spans the times at least half of the tags have records for "
                  f"({hi - lo:g} s of {np.ptp(t):g} s)")
+    # a tag silent for the last tenth or more: unchanged (compression) or cut off (an
+    # export's row limit); the records cannot tell, so say it
+    for k in tags:
+        last = t[key == k].max()
+        if hi - last > 0.1 * (hi - lo):
+            note += f"; {k} has no record after {last - lo:g} s of {hi - lo:g} s (held)"
     return grid, wide, note
