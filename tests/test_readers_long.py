@@ -368,3 +368,14 @@ def test_a_questionable_flag_and_a_tag_that_stops_early(tmp_path):
     assert "1 value of quality other than good read as NaN (column 'Questionable')" in reason
     assert np.isnan(data.X[0, t == records["PV"][0][10], 0]).all()
     assert "TIC5.OP has no record after" in reason
+
+
+def test_time_unit_reaches_a_long_exports_times(tmp_path):
+    ms = 1.7e12 + 1000.0 * np.arange(50)  # epoch milliseconds, unless told otherwise
+    rows = pd.concat([pd.DataFrame({"Tag": f"A.{c}", "Time": ms, "Value": np.arange(50.0)})
+                      for c in ("PV", "OP")])  # fmt: skip
+    rows.to_csv(tmp_path / "ms.csv", index=False)
+    auto = read_loop_file(tmp_path / "ms.csv").meta.loc[0]
+    assert auto["ts"] == 1.0 and auto["start"] == pd.Timestamp(1.7e12, unit="ms")
+    told = read_loop_file(tmp_path / "ms.csv", time_unit="s").meta.loc[0]
+    assert told["ts"] == 1000.0 and pd.isna(told["start"])
