@@ -309,7 +309,9 @@ def _unreadable_table(listing, channels, ts):
         if meta["status"].astype(str).eq("ok").any():
             return True, None
         rows.extend(meta.reindex(columns=["file", "tag", "status", "reason"]).to_dict("records"))
-    return False, pd.DataFrame(rows).fillna("")
+    failures = pd.DataFrame(rows).fillna("")
+    failures["reason"] = failures["reason"].map(_as_options)  # in this command's words
+    return False, failures
 
 
 class _FileLoops:

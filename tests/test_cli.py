@@ -59,6 +59,7 @@ def test_nothing_readable_exits_2_before_training(no_training, tmp_path, capsys)
     err = capsys.readouterr().err
     assert "no file could be read" in err
     assert "a.csv" in err and "b.csv" in err  # each file named with its reason
+    assert "--channels pv=COLUMN" in err and "channels={" not in err  # this command's words
 
 
 def test_empty_folder_exits_2(no_training, tmp_path, capsys):
