@@ -161,12 +161,14 @@ def placeholder_mask(x):
     if y.size < 4:
         return mask
     # Most records end here, in O(n): placeholders take at most a fifth of the samples, so
-    # the others hold the k-th smallest and k-th largest (k a fifth) and their range is at
-    # least the distance between them, while a placeholder's gap is within the whole range.
+    # the others hold the k-th smallest and k-th largest (k a fifth): their range is at
+    # least the distance between these, their median at least as far from zero as the
+    # nearer of the two when both have one sign; a placeholder's gap is within the range.
     k = int(MAX_PLACEHOLDER_SHARE * y.size)
     part = np.partition(y, [0, k, y.size - 1 - k, y.size - 1])
-    inner = part[y.size - 1 - k] - part[k]
-    if inner > 0 and part[-1] - part[0] <= _PLACEHOLDER_GAP * inner:
+    a, b = part[k], part[y.size - 1 - k]
+    level = min(abs(a), abs(b)) if a * b > 0 else 0.0
+    if part[-1] - part[0] <= _PLACEHOLDER_GAP * max(b - a, level):
         return mask
     values, counts = np.unique(y, return_counts=True)
     low, high = _codes(values, counts, MAX_PLACEHOLDER_SHARE * y.size)
