@@ -379,3 +379,19 @@ def test_time_unit_reaches_a_long_exports_times(tmp_path):
     assert auto["ts"] == 1.0 and auto["start"] == pd.Timestamp(1.7e12, unit="ms")
     told = read_loop_file(tmp_path / "ms.csv", time_unit="s").meta.loc[0]
     assert told["ts"] == 1000.0 and pd.isna(told["start"])
+
+
+def test_a_hidden_sheet_is_read_and_said_to_be_hidden(tmp_path):
+    from openpyxl import load_workbook
+
+    path = tmp_path / "hidden.xlsx"
+    with pd.ExcelWriter(path) as writer:
+        for name in ("FIC1", "FIC2"):
+            sheet = pd.DataFrame({"time": np.arange(200.0), "PV": np.sin(np.arange(200) / 5),
+                                  "OP": np.cos(np.arange(200) / 5)})  # fmt: skip
+            sheet.to_excel(writer, sheet_name=name, index=False)
+    book = load_workbook(path)
+    book["FIC2"].sheet_state = "hidden"
+    book.save(path)
+    meta = read_loop_file(path).meta
+    assert meta["reason"].tolist() == ["sheet 'FIC1'", "sheet 'FIC2' (hidden in the workbook)"]

@@ -345,6 +345,9 @@ def _open_xlsx(path, accept=None):
         raise FileError(f"not a readable Excel workbook ({type(exc).__name__}: {exc})") from exc
     first, chosen = None, []
     with book:
+        # hidden sheets are read all the same, and said to be: nothing is left out unsaid
+        hidden = {ws.title for ws in getattr(book.book, "worksheets", [])
+                  if getattr(ws, "sheet_state", "visible") != "visible"}  # fmt: skip
         for name in book.sheet_names:
             frame = pd.read_excel(book, sheet_name=name, header=None, dtype=object)
             frame = frame.dropna(how="all", axis=1)
@@ -372,7 +375,8 @@ def _open_xlsx(path, accept=None):
         which = " (the one with loop columns)"
     tables = []
     for sheet, names, body, header in sheets:
-        notes = [f"sheet {sheet!r}"] if len(sheets) > 1 else []
+        shown = f"sheet {sheet!r}" + " (hidden in the workbook)" * (sheet in hidden)
+        notes = [shown] if len(sheets) > 1 or sheet in hidden else []
         if n_sheets > len(sheets):
             notes.append(f"workbook has {n_sheets} sheets: read {read}{which} only")
         if header:
