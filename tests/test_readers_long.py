@@ -395,3 +395,20 @@ def test_a_hidden_sheet_is_read_and_said_to_be_hidden(tmp_path):
     book.save(path)
     meta = read_loop_file(path).meta
     assert meta["reason"].tolist() == ["sheet 'FIC1'", "sheet 'FIC2' (hidden in the workbook)"]
+
+
+def test_workbook_sheets_with_a_time_column_before_each_tag_are_all_read(tmp_path):
+    t, records, _ = _recorded()
+    (tp, vp), (to, vo) = records["PV"], records["OP"]
+    n = max(len(tp), len(to))
+    path = tmp_path / "datalink.xlsx"
+    with pd.ExcelWriter(path) as writer:
+        for tag in ("TIC5", "TIC6"):
+            sheet = pd.DataFrame({0: pd.Series(START + pd.to_timedelta(tp, unit="s")),
+                                  1: pd.Series(vp), 2: pd.Series(START + pd.to_timedelta(
+                                      to, unit="s")), 3: pd.Series(vo)}).reindex(range(n))
+            sheet.columns = ["Time", f"{tag}.PV", "Time ", f"{tag}.OP"]
+            sheet.to_excel(writer, sheet_name=tag, index=False)
+    data = read_loop_file(path)
+    assert data.meta["tag"].tolist() == ["TIC5", "TIC6"]
+    np.testing.assert_allclose(data.X[1, :, 1], _hold(t, to, vo), rtol=1e-14)  # 15 digits

@@ -31,7 +31,7 @@ import pandas as pd
 from ._readers import FileError, Table
 from ._timestamps import TimeError, count, parse_times
 
-__all__ = ["long_columns", "paired_table", "pivot_long"]
+__all__ = ["long_columns", "paired_table", "pivot_long", "time_owners"]
 
 _UNIT = re.compile(r"\s*[\[(][^\])]*[\])]$")
 # Column names of each role, most telling first: with a "Tag" and a "Name" (a description)
@@ -93,6 +93,17 @@ def long_columns(names, is_time, channels=None):
     return found
 
 
+def time_owners(names, is_time):
+    """``{value column: its time column}`` when every value column has a time column of
+    its own before it (and every time column a value column after it), else None."""
+    times = [i for i, n in enumerate(names) if is_time(n)]
+    if len(times) < 2 or times[0] != 0:
+        return None
+    owner = {i: max(j for j in times if j < i)
+             for i in range(len(names)) if i not in times and names[i]}  # fmt: skip
+    return owner if set(owner.values()) == set(times) else None
+
+
 def paired_table(table, is_time):
     """A wide table whose every tag has its own time column before it (PI DataLink's
     compressed data: ``Time, FIC1.PV, Time, FIC1.OP``) as a long one, or None.
@@ -101,15 +112,10 @@ def paired_table(table, is_time):
     time column nearest to its left, and blank cells below a shorter tag are not records.
     """
     names = table.names
-    times = [i for i, n in enumerate(names) if is_time(n)]
-    if len(times) < 2 or times[0] != 0:
+    owner = time_owners(names, is_time)
+    if owner is None:
         return None
-    owner = {}
-    for i in range(len(names)):
-        if i not in times and names[i]:
-            owner[i] = max(j for j in times if j < i)
-    if set(owner.values()) != set(times):  # a time column with no tag after it
-        return None
+    times = sorted(set(owner.values()))
 
     def reader(positions):
         frame = table.read(sorted(set(owner) | set(times)))

@@ -29,7 +29,7 @@ import pandas as pd
 from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
-from ._long import long_columns, paired_table, pivot_long
+from ._long import long_columns, paired_table, pivot_long, time_owners
 from ._readers import FileError, file_kind, open_tables
 from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
@@ -194,8 +194,10 @@ def _is_time(name):
 
 
 def _accept(names, channels):
-    """Whether a workbook sheet's columns hold loops, wide or long."""
-    return _plans(names, channels) or long_columns(names, _is_time, channels) is not None
+    """Whether a workbook sheet's columns hold loops: wide, long, or a time column before
+    each tag."""
+    return (_plans(names, channels) or long_columns(names, _is_time, channels) is not None
+            or (not channels and time_owners(names, _is_time) is not None))  # fmt: skip
 
 
 def _plan(names, channels):
