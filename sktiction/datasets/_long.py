@@ -168,22 +168,24 @@ def _quality_note(bad, name):
 
 def _scan_step(t, key):
     """The grid step of tags recorded at their own times: the scan period the records fall
-    on. That is the greatest common divisor of the steps between one tag's records (to the
-    millisecond) when their stamps are exact and it leaves at most 50 grid rows per record;
-    else (jittered stamps, a stray record a millisecond after another) the 5th percentile
-    of the steps when nearly all are close to whole multiples of it, else their median."""
+    on. The typical short step is the median of the steps near the 5th percentile (stamps
+    may jitter); the steps' greatest common divisor (to the millisecond) is the period when
+    it is at least a fifth of that (a compressed tag writes on some scans only; a divisor
+    from jittered or rounded stamps is far smaller), else the typical short step when
+    nearly all steps are close to whole multiples of it, else the median step."""
     steps = np.concatenate([np.diff(np.unique(t[key == k])) for k in np.unique(key)])
     steps = steps[steps > 0]
     if steps.size == 0:
         return None
+    short = float(np.percentile(steps, 5))
+    short = float(np.median(steps[np.abs(steps / short - 1) < 0.25]))
     ms = np.round(steps * 1000).astype(np.int64)
     common = np.gcd.reduce(ms[ms > 0]) / 1000 if (ms > 0).any() else 0.0
-    if common >= 0.01 and np.ptp(t) / common <= 50 * t.size:
+    if common >= 0.2 * short:
         return float(common)
-    base = float(np.percentile(steps, 5))
-    ratio = steps / base
-    if np.mean(np.abs(ratio - np.round(ratio)) <= 0.1) >= 0.9:
-        return base
+    ratio = steps / short
+    if np.mean(np.abs(ratio - np.round(ratio)) <= 0.2) >= 0.8:
+        return short
     return float(np.median(steps))
 
 
@@ -195,12 +197,31 @@ def _held(t, v, grid):
     return np.where(i >= 0, v[np.maximum(i, 0)], np.nan)
 
 
-def _span(t, key, tags):
-    """Grid bounds: from when half the tags have a record to when half still have one."""
-    first = np.array([t[key == k].min() for k in tags])
-    last = np.array([t[key == k].max() for k in tags])
-    half = (len(tags) + 1) // 2
-    return np.sort(first)[half - 1], np.sort(last)[::-1][half - 1]
+def _own_span(tk):
+    """A tag's records' span (sorted unique times ``tk``) without a lone first or last
+    record ten times further from its neighbour than the rest of the records span (a stray
+    stamp a month off); None for a tag of fewer than 10 records (a setpoint written on its
+    few changes), which only sets the values held."""
+    if tk.size < 10:
+        return None
+    lo, hi = tk[0], tk[-1]
+    if tk[1] - tk[0] > 10 * (tk[-1] - tk[1]):
+        lo = tk[1]
+    if tk[-1] - tk[-2] > 10 * (tk[-2] - lo):
+        hi = tk[-2]
+    return lo, hi
+
+
+def _loop_spans(t, key, tags, loop_of):
+    """Each loop's grid bounds, ``{loop: (lo, hi)}``: from when all of its tags have begun
+    (each its own span) to the last record of any of them (a valve that stops moving
+    stops writing, while its PV goes on)."""
+    spans = {}
+    for k in tags:
+        own = _own_span(t[key == k])
+        if own is not None:
+            spans.setdefault(loop_of(k), []).append(own)
+    return {loop: (max(lo for lo, _ in s), max(hi for _, hi in s)) for loop, s in spans.items()}
 
 
 def _day_order(note):
@@ -239,14 +260,15 @@ def _times(raw, key, time_unit):
     return t, pd.Timestamp(int(first), unit="ns"), notes
 
 
-def pivot_long(table, cols, to_numbers, *, time_name="time", ts=None, time_unit="auto",
-               strict=False):  # fmt: skip
+def pivot_long(table, cols, to_numbers, *, loop_of=lambda tag: "", time_name="time",
+               ts=None, time_unit="auto", strict=False):  # fmt: skip
     """The long :class:`Table` ``table`` as a wide one: a time column, one column per tag.
 
     ``to_numbers(col, tag)`` turns one tag's values into floats and returns ``(values,
     notes)``; the notes (status text read as NaN, ...) go to the table's. The wide time
     column is named ``time_name``. ``ts`` (seconds), when given, is the grid step for tags
-    recorded at their own times.
+    recorded at their own times; ``loop_of(tag)`` names the loop a tag belongs to (each
+    loop's tags share a span).
     """
     positions = [cols["time"], cols["tag"], cols["value"], *cols["quality"]]
     positions += [cols["parameter"]] if cols["parameter"] is not None else []
@@ -297,7 +319,7 @@ def pivot_long(table, cols, to_numbers, *, time_name="time", ts=None, time_unit=
         wide = values.reshape(n_tags, times.size).T
         how = "shared times"
     else:
-        grid, wide, how = _held_grid(t, key, values, tags, ts)
+        grid, wide, how = _held_grid(t, key, values, tags, ts, loop_of)
     layout = ", ".join(names[cols[k]] for k in ("tag", "time", "value"))
     notes.append(f"long layout ({layout}): {count(n_tags, 'tag')} pivoted to columns; {how}")
     if cols["unused"]:
@@ -313,28 +335,39 @@ def pivot_long(table, cols, to_numbers, *, time_name="time", ts=None, time_unit=
     return Table(wide_names, info, reader)
 
 
-def _held_grid(t, key, values, tags, ts):
-    """Tags recorded at their own times on one regular grid: ``(grid, wide, note)``."""
+def _held_grid(t, key, values, tags, ts, loop_of):
+    """Tags recorded at their own times on one regular grid: ``(grid, wide, note)``. Each
+    tag holds its last record within its loop's span (NaN outside it)."""
     step = ts if ts is not None else _scan_step(t, key)
     if step is None:
         raise FileError("long layout: no tag has two distinct times")
-    lo, hi = _span(t, key, tags)
+    spans = _loop_spans(t, key, tags, loop_of)
+    if not spans:
+        raise FileError("long layout: no tag has two distinct times")
+    lo = min(a for a, _ in spans.values())
+    hi = max(b for _, b in spans.values())
     if (hi - lo) / step * len(tags) > _MAX_CELLS:
         raise FileError(f"long layout: a {step:g} s grid over {hi - lo:g} s for "
                         f"{count(len(tags), 'tag')} is too large; pass ts=")  # fmt: skip
     grid = lo + step * np.arange(int(np.floor((hi - lo) / step + 1e-9)) + 1)
-    wide = np.column_stack([_held(t[key == k], values[key == k], grid) for k in tags])
+    wide = np.full((grid.size, len(tags)), np.nan)
+    notes = []
+    for j, k in enumerate(tags):
+        tk, vk = t[key == k], values[key == k]
+        a, b = spans.get(loop_of(k), (lo, hi))
+        inside = (grid >= a - 1e-9) & (grid <= b + 1e-9)
+        wide[inside, j] = _held(tk, vk, grid[inside])
+        # a long silence: unchanged (compression), an outage or a cut-off export (a row
+        # limit); the records cannot tell, so say it
+        within = tk[(tk >= a) & (tk <= b)]
+        gaps = np.diff(np.r_[a, within, b])
+        if gaps.size and gaps.max() > 0.1 * (b - a) > 0:
+            notes.append(f"{k} has no record for {gaps.max():g} s of {b - a:g} s (held)")
     why = "ts" if ts is not None else "the scan period the records fall on"
     held = 1.0 - np.isin(np.round(grid, 3), np.round(t, 3)).mean()
     note = (f"tags recorded at their own times: each held at its last record on a {step:g} s "
             f"grid ({why}; {held:.0%} of the grid's rows without a record of any tag)")
     if np.min(t) < lo or np.max(t) > hi:
-        note += ("; the grid spans the times at least half of the tags have records for "
-                 f"({hi - lo:g} s of {np.ptp(t):g} s)")
-    # a tag silent for the last tenth or more: unchanged (compression) or cut off (an
-    # export's row limit); the records cannot tell, so say it
-    for k in tags:
-        last = t[key == k].max()
-        if hi - last > 0.1 * (hi - lo):
-            note += f"; {k} has no record after {last - lo:g} s of {hi - lo:g} s (held)"
-    return grid, wide, note
+        note += (f"; records outside the time all of a loop's tags cover set only the values "
+                 f"held ({hi - lo:g} s of {np.ptp(t):g} s)")
+    return grid, wide, "; ".join([note, *notes])

@@ -193,6 +193,12 @@ def _is_time(name):
     return channel_key(name) == "time"
 
 
+def _loop_of(tag):
+    """The loop a tag belongs to: its prefix (``FIC1`` of ``FIC1.PV``), else the tag."""
+    hit = _split(tag)
+    return hit[0] if hit is not None else str(tag)
+
+
 def _accept(names, channels):
     """Whether a workbook sheet's columns hold loops: wide, long, or a time column before
     each tag."""
@@ -428,8 +434,8 @@ def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
             # in it, "time [ms]", scales relative times), else it is "time"
             original = table.names[long["time"]]
             time_name = original if channel_key(original) == "time" else "time"
-            table = pivot_long(table, long, to_numbers, time_name=time_name, ts=ts,
-                               time_unit=time_unit, strict=strict)  # fmt: skip
+            table = pivot_long(table, long, to_numbers, loop_of=_loop_of, time_name=time_name,
+                               ts=ts, time_unit=time_unit, strict=strict)  # fmt: skip
             if channels and "time" in channels:
                 channels = {**channels, "time": time_name}
     info, names = table.info, table.names
