@@ -14,8 +14,10 @@ Two kinds of time axis:
   grid at the scan period. Held, not interpolated: a straight line between sparse records
   looks like a smooth loop to every feature (healthy compressed loops were called sticky),
   while held values are what the package's compression check and simulated world know.
-  The grid runs from when at least half of the tags have a record to when at least half
-  still have one, so one stray record a month early does not stretch it.
+  Each loop (the tags of one prefix) runs from when all of its tags have begun to the
+  last record of any (a valve that stops moving stops writing while its PV goes on); a
+  lone record ten times further off than the rest span, or a tag of fewer than ten records,
+  only sets the values held.
 
 Times in text are parsed tag by tag: each tag's rows are in time order, so daylight saving
 in naive local time (an hour repeated or skipped) is read as in a wide file.
