@@ -30,12 +30,11 @@ import re
 import numpy as np
 import pandas as pd
 
-from ._readers import FileError, Table
+from ._readers import UNIT_SUFFIX, FileError, Table
 from ._timestamps import TimeError, count, parse_times
 
 __all__ = ["long_columns", "paired_table", "pivot_long", "time_owners"]
 
-_UNIT = re.compile(r"\s*[\[(][^\])]*[\])]$")
 # Column names of each role, most telling first: with a "Tag" and a "Name" (a description)
 # the tag is "Tag", with a "Value" and an "Average" the value is "Value".
 _TAG = ("tag", "tagname", "tag_name", "tagpath", "tag_path", "pointname", "point_name",
@@ -57,7 +56,7 @@ _MAX_CELLS = 5e8  # 4 GB of float64: a grid step far below the records' (a stray
 
 
 def _norm(name):
-    return re.sub(r"[\s\-]+", "_", _UNIT.sub("", str(name).strip()).lower())
+    return re.sub(r"[\s\-]+", "_", UNIT_SUFFIX.sub("", str(name).strip()).lower())
 
 
 def long_columns(names, is_time, channels=None):
@@ -144,12 +143,20 @@ def _bad_quality(col, name):
     """Rows whose quality says the value is not good, and a note: text other than good
     (Good, OK, Valid), True in a column named questionable (PI), or OPC codes below 192;
     other numeric codes are the vendor's own and are not read (the note says so)."""
-    text = col.astype(str).str.strip().str.lower()
-    if col.dtype.kind == "b" or text.isin(_TRUE + _FALSE + ("nan", "none", "")).all():
-        flag = text.isin(_TRUE).to_numpy()
+    kind = col.dtype.kind
+    flag = None  # True / False flags, as bools, integers 0 / 1 or text
+    if kind == "b":
+        flag = col.fillna(False).to_numpy(dtype=bool)
+    elif kind in "iu" and np.isin(col.to_numpy(), (0, 1)).all():
+        flag = col.to_numpy() == 1
+    elif kind not in "fiu":
+        text = col.astype(str).str.strip().str.lower()
+        if text.isin(_TRUE + _FALSE + ("nan", "none", "")).all():
+            flag = text.isin(_TRUE).to_numpy()
+    if flag is not None:
         bad = flag if _norm(name) == "questionable" else ~flag & col.notna().to_numpy()
         return bad, _quality_note(bad, name)
-    if col.dtype.kind in "fiu":
+    if kind in "fiu":
         q = col.to_numpy(dtype=float)
         finite = q[np.isfinite(q)]
         codes, counts = np.unique(finite, return_counts=True)
@@ -168,14 +175,14 @@ def _quality_note(bad, name):
     )
 
 
-def _scan_step(t, key):
+def _scan_step(records):
     """The grid step of tags recorded at their own times: the scan period the records fall
     on. The typical short step is the median of the steps near the 5th percentile (stamps
     may jitter); the steps' greatest common divisor (to the millisecond) is the period when
     it is at least a fifth of that (a compressed tag writes on some scans only; a divisor
     from jittered or rounded stamps is far smaller), else the typical short step when
     nearly all steps are close to whole multiples of it, else the median step."""
-    steps = np.concatenate([np.diff(np.unique(t[key == k])) for k in np.unique(key)])
+    steps = np.concatenate([np.diff(tk) for tk, _ in records.values()])
     steps = steps[steps > 0]
     if steps.size == 0:
         return None
@@ -214,13 +221,13 @@ def _own_span(tk):
     return lo, hi
 
 
-def _loop_spans(t, key, tags, loop_of):
+def _loop_spans(records, loop_of):
     """Each loop's grid bounds, ``{loop: (lo, hi)}``: from when all of its tags have begun
     (each its own span) to the last record of any of them (a valve that stops moving
     stops writing, while its PV goes on)."""
     spans = {}
-    for k in tags:
-        own = _own_span(t[key == k])
+    for k, (tk, _) in records.items():
+        own = _own_span(tk)
         if own is not None:
             spans.setdefault(loop_of(k), []).append(own)
     return {loop: (max(lo for lo, _ in s), max(hi for _, hi in s)) for loop, s in spans.items()}
@@ -321,7 +328,11 @@ def pivot_long(table, cols, to_numbers, *, loop_of=lambda tag: "", time_name="ti
         wide = values.reshape(n_tags, times.size).T
         how = "shared times"
     else:
-        grid, wide, how = _held_grid(t, key, values, tags, ts, loop_of)
+        # each tag's rows are one run of the sorted rows: its times, sorted and unique
+        bounds = np.searchsorted(key, tags, side="right")
+        starts = np.r_[0, bounds[:-1]]
+        records = {k: (t[a:b], values[a:b]) for k, a, b in zip(tags, starts, bounds)}
+        grid, wide, how = _held_grid(records, ts, loop_of)
     layout = ", ".join(names[cols[k]] for k in ("tag", "time", "value"))
     notes.append(f"long layout ({layout}): {count(n_tags, 'tag')} pivoted to columns; {how}")
     if cols["unused"]:
@@ -337,25 +348,25 @@ def pivot_long(table, cols, to_numbers, *, loop_of=lambda tag: "", time_name="ti
     return Table(wide_names, info, reader)
 
 
-def _held_grid(t, key, values, tags, ts, loop_of):
-    """Tags recorded at their own times on one regular grid: ``(grid, wide, note)``. Each
-    tag holds its last record within its loop's span (NaN outside it)."""
-    step = ts if ts is not None else _scan_step(t, key)
+def _held_grid(records, ts, loop_of):
+    """Tags recorded at their own times (``records``: tag -> sorted unique times and their
+    values) on one regular grid: ``(grid, wide, note)``. Each tag holds its last record
+    within its loop's span (NaN outside it)."""
+    step = ts if ts is not None else _scan_step(records)
     if step is None:
         raise FileError("long layout: no tag has two distinct times")
-    spans = _loop_spans(t, key, tags, loop_of)
+    spans = _loop_spans(records, loop_of)
     if not spans:
         raise FileError("long layout: no tag has two distinct times")
     lo = min(a for a, _ in spans.values())
     hi = max(b for _, b in spans.values())
-    if (hi - lo) / step * len(tags) > _MAX_CELLS:
+    if (hi - lo) / step * len(records) > _MAX_CELLS:
         raise FileError(f"long layout: a {step:g} s grid over {hi - lo:g} s for "
-                        f"{count(len(tags), 'tag')} is too large; pass ts=")  # fmt: skip
+                        f"{count(len(records), 'tag')} is too large; pass ts=")  # fmt: skip
     grid = lo + step * np.arange(int(np.floor((hi - lo) / step + 1e-9)) + 1)
-    wide = np.full((grid.size, len(tags)), np.nan)
+    wide = np.full((grid.size, len(records)), np.nan)
     notes = []
-    for j, k in enumerate(tags):
-        tk, vk = t[key == k], values[key == k]
+    for j, (k, (tk, vk)) in enumerate(records.items()):
         a, b = spans.get(loop_of(k), (lo, hi))
         inside = (grid >= a - 1e-9) & (grid <= b + 1e-9)
         wide[inside, j] = _held(tk, vk, grid[inside])
@@ -366,6 +377,7 @@ def _held_grid(t, key, values, tags, ts, loop_of):
         if gaps.size and gaps.max() > 0.1 * (b - a) > 0:
             notes.append(f"{k} has no record for {gaps.max():g} s of {b - a:g} s (held)")
     why = "ts" if ts is not None else "the scan period the records fall on"
+    t = np.concatenate([tk for tk, _ in records.values()])
     held = 1.0 - np.isin(np.round(grid, 3), np.round(t, 3)).mean()
     note = (f"tags recorded at their own times: each held at its last record on a {step:g} s "
             f"grid ({why}; {held:.0%} of the grid's rows without a record of any tag)")

@@ -30,7 +30,7 @@ from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
 from ._long import long_columns, paired_table, pivot_long, time_owners
-from ._readers import FileError, file_kind, open_tables
+from ._readers import UNIT_SUFFIX, FileError, file_kind, open_tables
 from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
 __all__ = ["list_loop_files", "read_loop_file", "read_loops"]
@@ -49,7 +49,6 @@ _ALIASES = {
     ),
     "mode": ("mode", "aut", "auto"),
 }
-_UNIT = re.compile(r"\s*[\[(][^\])]*[\])]$")
 _TIME_UNIT = re.compile(r"[\[(_ ](ms|min|h)[\])]?$")
 _TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
 # Between a tag and a channel name: FIC1.PV, FIC1_PV, FIC1 PV, FIC1:PV, LIC1/PID1/PV.
@@ -155,7 +154,7 @@ def _split(name):
 
     A unit in brackets at the end (``FIC1.PV [m3/h]``, ``OP (%)``) is ignored.
     """
-    name = _UNIT.sub("", str(name).strip())
+    name = UNIT_SUFFIX.sub("", str(name).strip())
     field = _FIELD.search(name)
     if field is not None:
         # DeltaV ``LIC101/PID1/OUT.CV``: the value field of the OUT channel, not a PV

@@ -51,6 +51,8 @@ _HEAD_BYTES = 1 << 16
 _SEPARATORS = ("\t", ";", "|", ",")  # preference when several split the rows evenly
 _COMMENT = ("#", "//", "%", "!")
 _DATE_LIKE = re.compile(r"\d{1,4}[-/.:]\d{1,2}[-/.:]\d{1,4}")
+#: A unit in brackets ending a column name (``FIC1.PV [m3/h]``, ``OP (%)``).
+UNIT_SUFFIX = re.compile(r"\s*[\[(][^\])]*[\])]$")
 _NUMBER = re.compile(r"^\s*[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?\s*$")
 
 
