@@ -402,12 +402,7 @@ def _read_file(path, channels, ts, strict, time_unit, return_frames=False):
         parts = [(np.full((1, 0, 3), np.nan), [{
             "format": "xlsx", "tag": str(sheet), "n_samples": 0, "status": STATUS_ERROR,
             "reason": f"sheet {sheet!r}: {exc}"}], [None]) for sheet, exc in failed]  # fmt: skip
-    m = max(X.shape[1] for X, _, _ in parts)
-    X = np.full((sum(X.shape[0] for X, _, _ in parts), m, 3), np.nan)
-    i = 0
-    for part, _, _ in parts:
-        X[i : i + len(part), : part.shape[1]] = part
-        i += len(part)
+    X = pad_loops([X for X, _, _ in parts])
     return X, [r for _, rows, _ in parts for r in rows], [f for *_, fr in parts for f in fr]
 
 
@@ -549,6 +544,18 @@ def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
                 })  # fmt: skip
             )
     return X, rows, frames
+
+
+def pad_loops(arrays, min_samples=0):
+    """Loop arrays ``(n_i, m_i, 3)`` stacked into one, NaN-padded at the end to the
+    longest (at least ``min_samples`` samples)."""
+    m = max([min_samples] + [a.shape[1] for a in arrays])
+    out = np.full((sum(len(a) for a in arrays), m, 3), np.nan)
+    k = 0
+    for a in arrays:
+        out[k : k + len(a), : a.shape[1]] = a
+        k += len(a)
+    return out
 
 
 def _fraction(op):
@@ -867,12 +874,7 @@ def read_loops(
         rows.extend(data.meta.to_dict("records"))
         if return_frames:
             frames.extend(data.frames)
-    max_len = max([1] + [x.shape[1] for x in parts])
-    X = np.full((sum(len(x) for x in parts), max_len, 3), np.nan)
-    i = 0
-    for x in parts:
-        X[i : i + len(x), : x.shape[1]] = x
-        i += len(x)
+    X = pad_loops(parts, min_samples=1)
     meta = _meta_frame(rows)
     skipped = pd.DataFrame(skipped, columns=["path", "reason"])
     data = Bunch(X=X, meta=meta, skipped=skipped, channels=CHANNELS)

@@ -18,7 +18,13 @@ from .._validation import (
 )
 from ..classifiers import pretrained_classifier
 from ..datasets import list_loop_files
-from ..datasets._measured import _META_COLUMNS, _meta_frame, manual_gaps, read_loop_rows
+from ..datasets._measured import (
+    _META_COLUMNS,
+    _meta_frame,
+    manual_gaps,
+    pad_loops,
+    read_loop_rows,
+)
 from .scan import (
     GAP_COLUMNS,
     NO_VERDICT,
@@ -46,17 +52,6 @@ def _unreadable_rows(meta):
     report["verdict"] = NO_VERDICT
     report["reason"] = meta["reason"].to_numpy(dtype=object)
     return report
-
-
-def _pad(arrays):
-    """Loops of several files in one NaN-padded array (one chunk's worth)."""
-    n = max(a.shape[1] for a in arrays)
-    out = np.full((sum(len(a) for a in arrays), n, 3), np.nan)
-    k = 0
-    for a in arrays:
-        out[k : k + len(a), : a.shape[1]] = a
-        k += len(a)
-    return out
 
 
 def _meta(rows):
@@ -116,7 +111,7 @@ def _scan_group(files, channels, ts, max_gap, learned, rules, gate, chunk_size):
         if not pending:
             return
         meta = _meta(pending_rows)
-        loops = _pad(pending)  # checked by _scan_safely, which isolates a loop that fails
+        loops = pad_loops(pending)  # checked by _scan_safely, which isolates a loop that fails
         report = _scan_safely(
             loops, loop_types_of(meta, len(meta)), learned, rules, sampling_times(meta), gate
         )
