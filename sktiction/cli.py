@@ -398,7 +398,7 @@ def _scan(args):
         from .reports.html import write_html_report
 
         write_html_report(report, _FileLoops(report, channels, args.ts), path=args.report,
-                          title="sktiction scan")
+                          title="sktiction scan", n_jobs=args.n_jobs, progress=not args.quiet)
         print(f"wrote the HTML report to {args.report}", file=sys.stderr)
     table = _console_table(report)
     _print_table(table if args.top is None else _top(table, args.top))

@@ -71,6 +71,27 @@ def test_file_is_self_contained(report_and_loops, tmp_path):
     assert text.count("<tr ") == 5
 
 
+def test_figures_on_two_processes_make_the_same_file(report_and_loops, tmp_path, capsys):
+    report, X = report_and_loops
+    one = write_html_report(report, X, path=tmp_path / "one.html", progress=True)
+    assert "figures" in capsys.readouterr().err  # the progress bar names its work
+    two = write_html_report(report, X, path=tmp_path / "two.html", n_jobs=2)
+    assert one.read_bytes() == two.read_bytes()
+
+
+def test_a_loop_that_cannot_be_read_again_costs_only_its_figure(report_and_loops, tmp_path):
+    report, X = report_and_loops
+
+    def loop(i):
+        if i == 1:
+            raise OSError("the file was moved")
+        return X[i]
+
+    text = write_html_report(report, loop, path=tmp_path / "r.html").read_text()
+    assert text.count('src="data:image/png;base64,') == 3
+    assert "no figure: error: OSError: the file was moved" in text
+
+
 def test_report_rows_must_match_loops(report_and_loops, tmp_path):
     report, X = report_and_loops
     with pytest.raises(ValueError, match="5 rows"):

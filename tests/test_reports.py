@@ -8,6 +8,7 @@ from sktiction import pretrained_classifier
 from sktiction.cli import main
 from sktiction.datasets import load_example, make_loops
 from sktiction.reports import plot_loop, scan_loops
+from sktiction.reports.plots import loop_cycles
 
 
 @pytest.fixture(scope="module")
@@ -116,9 +117,35 @@ def test_plot_loop_draws_cycles():
 
     matplotlib.use("Agg")
     X, _ = make_loops(1, n_samples=2000, stiction_fraction=1.0, random_state=2)
-    top, bottom = plot_loop(X)
+    cycles = loop_cycles(X)
+    top, bottom = plot_loop(X, cycles=cycles)
     assert len(top.lines) >= 2 and len(bottom.lines) == 1
-    assert len(bottom.patches) >= 2  # shaded cycles
+    for ax in (top, bottom):  # every cycle shaded, alternately in two shades
+        spans = [len(c.get_paths()) for c in ax.collections]
+        assert sum(spans) == len(cycles) >= 2 and len(spans) == 2
+    # labelled with its shapes when it spans a sixtieth of the axis
+    wide = (cycles["end"] - cycles["start"]) >= (X.shape[1] - 1) / 60
+    assert len(bottom.texts) == wide.sum() >= 1
+    assert {t.get_text() for t in bottom.texts} <= {
+        f"{o[:4]}/{p[:4]}" for o, p in zip(cycles["op_shape"], cycles["pv_shape"])
+    }
+
+
+def test_plot_loop_labels_only_cycles_wide_enough_to_read():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    t = np.arange(8000)
+    op = np.sin(2 * np.pi * t / 40) + 0.01 * np.random.default_rng(0).normal(size=t.size)
+    X = np.stack([op, op, np.zeros_like(op)], axis=-1)[None]
+    cycles = loop_cycles(X)
+    assert len(cycles) > 100
+    _, bottom = plot_loop(X, cycles=cycles)
+    assert sum(len(c.get_paths()) for c in bottom.collections) == len(cycles)
+    assert len(bottom.texts) == 0  # 200 labels 40 samples apart would print over each other
+    wide = cycles.iloc[:3].assign(start=[0, 3000, 6000], end=[2000, 5000, 7900])
+    _, bottom = plot_loop(X, cycles=wide)
+    assert len(bottom.texts) == 3
 
 
 def test_cli_scan_reports_good_and_bad_files(tmp_path, capsys, monkeypatch, small_learned):

@@ -147,8 +147,59 @@ def _loop_getter(X, n):
     return lambda i: loops[i : i + 1]
 
 
+def _render(loops, ts, titles, dpi):
+    """(base64 PNG or "error: ..." or None, median cycle period) for each loop given."""
+    import matplotlib
+
+    from .plots import loop_cycles, plot_loop_summary
+
+    out = []
+    with matplotlib.rc_context({"font.size": 8}):
+        for one, step, title in zip(loops, ts, titles):
+            if isinstance(one, str):  # the loop could not be read
+                out.append((one, np.nan))
+                continue
+            if one is None or np.isnan(one[0, :, 0]).all():
+                out.append((None, np.nan))
+                continue
+            try:
+                cycles = loop_cycles(one)
+                period = np.nan
+                if len(cycles) and "period" in cycles:
+                    period = float(np.median(cycles["period"])) * step
+                fig = plot_loop_summary(one, ts=step, cycles=cycles, title=title)
+                out.append((_figure_png(fig, dpi), period))
+            except Exception as exc:  # noqa: BLE001 - a figure must not stop the report
+                out.append((f"error: {type(exc).__name__}: {exc}", np.nan))
+    return out
+
+
+def _read(loop_of, i):
+    try:
+        return loop_of(i)
+    except Exception as exc:  # noqa: BLE001 - a figure must not stop the report
+        return f"error: {type(exc).__name__}: {exc}"
+
+
+def _figures(report, loop_of, order, ts, dpi, n_jobs, progress, chunk=8):
+    """Figures of the loops ``order``, drawn in chunks on ``n_jobs`` processes."""
+    from .scan import progress_bar, run_units
+
+    order = sorted(order)
+    units = []
+    for a in range(0, len(order), chunk):
+        part = order[a : a + chunk]  # loops read here, in order (a file read once)
+        units.append(([_read(loop_of, i) for i in part], ts[part],
+                      [_figure_title(report, i) for i in part], dpi))
+    with progress_bar(len(order), progress, unit="figure", desc="figures") as bar:
+        drawn = run_units(_render, units, (), n_jobs=n_jobs, bar=bar,
+                          sizes=[len(u[0]) for u in units])
+    return dict(zip(order, (d for part in drawn for d in part)))
+
+
 def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
-                      title="sktiction report", max_figures=200, dpi=72):
+                      title="sktiction report", max_figures=200, dpi=72, n_jobs=None,
+                      progress=False):
     """Write a scan report as ONE self-contained HTML file people would rather read.
 
     A sortable table of loops (click a header to sort, or open the file with
@@ -182,6 +233,10 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
         stays small for plant-wide scans; the table always lists every loop.
     dpi : int, default=72
         Resolution of the figures.
+    n_jobs : int or None, default=None
+        Processes drawing the figures (joblib's convention: ``-1`` all cores).
+    progress : bool, default=False
+        Show a progress bar over the figures with rate and ETA on standard error.
 
     Returns
     -------
@@ -202,7 +257,6 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
     >>> text.count("<img"), "FIC2" in text
     (2, True)
     """
-    import matplotlib
 
     report = report.reset_index(drop=True)
     n = len(report)
@@ -219,25 +273,11 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
     figures = {}
     periods = np.full(n, np.nan)
     if loop_of is not None:
-        from .plots import loop_cycles, plot_loop_summary
-
         verdict = report["verdict"] if "verdict" in report else pd.Series("", index=report.index)
         order = np.argsort(~verdict.eq("stiction").to_numpy(), kind="stable")[:max_figures]
-        with matplotlib.rc_context({"font.size": 8}):
-            for i in sorted(order):
-                try:
-                    one = loop_of(i)
-                    if one is None or np.isnan(one[0, :, 0]).all():
-                        figures[i] = None
-                        continue
-                    cycles = loop_cycles(one)
-                    if len(cycles) and "period" in cycles:
-                        periods[i] = float(np.median(cycles["period"])) * ts[i]
-                    fig = plot_loop_summary(one, ts=ts[i], cycles=cycles,
-                                            title=_figure_title(report, i))
-                    figures[i] = _figure_png(fig, dpi)
-                except Exception as exc:  # noqa: BLE001 - a figure must not stop the report
-                    figures[i] = f"error: {type(exc).__name__}: {exc}"
+        drawn = _figures(report, loop_of, order, ts, dpi, n_jobs, progress)
+        for i, (png, period) in drawn.items():
+            figures[i], periods[i] = png, period
     table = report.copy()
     if "period" not in table:
         table["period"] = periods

@@ -67,14 +67,8 @@ def plot_loop(X, *, loop=0, ts=1.0, templates=None, ax=None, title=None, cycles=
     table = cycles
     if table is None and not np.isnan(one[0, :n, OP]).all():
         table = matcher.fit(one).cycle_table(one)
-    if table is not None:
-        for k, row in enumerate(table.itertuples()):
-            for a in ax:
-                a.axvspan(row.start * ts, row.end * ts, alpha=0.08 if k % 2 else 0.16, color="C1")
-            label = f"{str(row.op_shape)[:4]}/{str(row.pv_shape)[:4]}"
-            ax[1].annotate(label, ((row.start + row.end) / 2 * ts, 1.0),
-                           xycoords=("data", "axes fraction"), ha="center", va="bottom",
-                           fontsize=7)
+    if table is not None and len(table):
+        _shade_cycles(ax, table, ts, n)
     ax[0].set_ylabel("PV, SP")
     ax[1].set_ylabel("OP")
     ax[1].set_xlabel("time")
@@ -83,6 +77,23 @@ def plot_loop(X, *, loop=0, ts=1.0, templates=None, ax=None, title=None, cycles=
     if title:
         ax[0].set_title(title)
     return ax
+
+
+def _shade_cycles(ax, table, ts, n, min_width=1 / 60):
+    """Shade the cycles alternately, as one collection per shade and axis (an artist per
+    cycle made a day's figure slow to draw), and label those wide enough to read."""
+    start, end = table["start"].to_numpy(float) * ts, table["end"].to_numpy(float) * ts
+    for k, alpha in ((0, 0.16), (1, 0.08)):
+        spans = list(zip(start[k::2], (end - start)[k::2]))
+        for a in ax:
+            a.broken_barh(spans, (0, 1), transform=a.get_xaxis_transform(), alpha=alpha,
+                          color="C1", lw=0)
+    # a label needs about a sixtieth of the axis; narrower cycles would print over each other
+    wide = (end - start) >= min_width * max(n - 1, 1) * ts
+    for row in table[wide].itertuples():
+        ax[1].annotate(f"{str(row.op_shape)[:4]}/{str(row.pv_shape)[:4]}",
+                       ((row.start + row.end) / 2 * ts, 1.0), xycoords=("data", "axes fraction"),
+                       ha="center", va="bottom", fontsize=7)
 
 
 def loop_cycles(X, *, loop=0, templates=None):
@@ -152,7 +163,7 @@ def plot_pv_op(X, *, loop=0, ax=None, cycles=None):
     if cycles is not None and len(cycles):
         a, b = int(cycles["start"].min()), int(cycles["end"].max())
         ax.plot(op[a:b], pv[a:b], lw=0.8, color="C0", label="analysed cycles")
-        ax.legend(loc="best", fontsize=7)
+        ax.legend(loc="upper right", fontsize=7)
     ax.set_xlabel("OP")
     ax.set_ylabel("PV")
     ax.set_title("PV against OP", fontsize=9)
@@ -184,7 +195,7 @@ def plot_area_ratios(cycles, *, ax=None, margin=0.5):
         ax.bar(np.arange(1, len(r) + 1), r, color=np.where(r > 1 + margin, "C3", "C0"))
         ax.axhline(1.0 + margin, color="C3", lw=0.8, ls="--", label=f"R = {1 + margin:g}")
         ax.axhline(1.0, color="0.5", lw=0.6)
-        ax.legend(loc="best", fontsize=7)
+        ax.legend(loc="upper right", fontsize=7)
     else:
         ax.text(0.5, 0.5, "no analysed cycle", ha="center", va="center",
                 transform=ax.transAxes, fontsize=9, color="0.4")
@@ -228,11 +239,14 @@ def plot_loop_summary(X, *, loop=0, ts=1.0, title=None, cycles=None):
 
     if cycles is None:
         cycles = loop_cycles(X, loop=loop)
-    fig = plt.figure(figsize=(12, 4.2), layout="constrained")
-    grid = fig.add_gridspec(2, 3, width_ratios=[3.2, 1.2, 1.2])
+    # fixed margins: a constrained layout took half of a report's time per figure
+    fig = plt.figure(figsize=(12, 4.2))
+    grid = fig.add_gridspec(2, 3, width_ratios=[3.2, 1.2, 1.2], left=0.065, right=0.99,
+                            bottom=0.12, top=0.87, wspace=0.25, hspace=0.2)
     trend = fig.add_subplot(grid[0, 0])
     op_ax = fig.add_subplot(grid[1, 0], sharex=trend)
     plot_loop(X, loop=loop, ts=ts, ax=[trend, op_ax], cycles=cycles)
+    trend.tick_params(labelbottom=False)  # the OP axes below carry the time axis
     plot_pv_op(X, loop=loop, ax=fig.add_subplot(grid[:, 1]), cycles=cycles)
     plot_area_ratios(cycles, ax=fig.add_subplot(grid[:, 2]))
     if title:

@@ -339,11 +339,11 @@ def _as_batch(X):
     return check_loops(X)
 
 
-def progress_bar(total, enabled, unit="loop"):
+def progress_bar(total, enabled, unit="loop", desc="scan"):
     """A tqdm progress bar on standard error with rate and ETA (disabled when not wanted)."""
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, unit=unit, disable=not enabled, desc="scan", leave=True,
+    return tqdm(total=total, unit=unit, disable=not enabled, desc=desc, leave=True,
                 dynamic_ncols=True)
 
 
