@@ -423,6 +423,38 @@ def test_records_too_short_for_an_acf():
     assert analyze_cycles(np.arange(100.0)).acf_strength == 0.0
 
 
+def test_nan_padding_at_the_end_is_the_record_it_pads():
+    # X[i, :, 1] of a loop array whose record is shorter than the longest one
+    rng = np.random.default_rng(3)
+    x = np.sin(2 * np.pi * np.arange(700) / 60) + 0.2 * rng.normal(size=700)
+    padded = np.r_[x, np.full(300, np.nan)]
+    a, b = analyze_cycles(x), analyze_cycles(padded)
+    assert b.oscillating and b.oscillation_index == a.oscillation_index
+    np.testing.assert_array_equal(b.crossings, a.crossings)
+    assert b.centred.size == 700
+    assert detect_oscillations(padded) == detect_oscillations(x)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_a_gap_inside_the_record_is_an_error_not_a_quiet_loop(bad):
+    x = np.sin(2 * np.pi * np.arange(700) / 60)
+    x[100] = bad
+    for fn in (analyze_cycles, detect_oscillations):
+        with pytest.raises(ValueError, match=r"1 NaN or infinite value\(s\) inside the record "
+                                             r"\(first at sample 100 of 700\)"):
+            fn(x)
+    x[100:] = np.nan  # all of it after sample 100: padding
+    assert analyze_cycles(x).centred.size == 100
+
+
+def test_input_that_is_not_one_signal_is_refused():
+    with pytest.raises(ValueError, match=r"one signal \(1-D\); got shape \(50, 3\)"):
+        analyze_cycles(np.zeros((50, 3)))
+    for empty in ([], np.full(10, np.nan)):
+        with pytest.raises(ValueError, match="holds no value"):
+            analyze_cycles(empty)
+
+
 def test_a_regular_cycle_between_two_odd_ones_is_no_stretch():
     # four cycles of 100, one of 100 between two of 250, two of 30, four of 100 again
     x = square([25] + [50] * 8 + [125, 125, 50, 50, 125, 125] + [15] * 4 + [50] * 8)

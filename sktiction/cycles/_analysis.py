@@ -16,6 +16,7 @@ from ._signal import (
     first_lobe,
     moving_average,
     noise_std,
+    one_signal,
     remove_mean,
     schmitt_crossings,
 )
@@ -271,7 +272,8 @@ def analyze_cycles(
     Parameters
     ----------
     x : array-like of shape (n_samples,)
-        One signal without NaN.
+        One signal. NaN at the end (the padding of a shorter record in a loop array)
+        is dropped; NaN or infinite values inside the record raise ``ValueError``.
     min_cycles : int, default=3
         Fewest consecutive regular full cycles that make an oscillating stretch.
     hysteresis : float, default=3.0
@@ -303,6 +305,14 @@ def analyze_cycles(
     >>> a.oscillation_index > 0.99, np.round(a.periods)
     (True, array([100.]))
     """
+    return _analyze_cycles(one_signal(x), min_cycles, hysteresis, tolerance, min_acf, threshold,
+                           dominant)
+
+
+def _analyze_cycles(x, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0, threshold=0.5,
+                    dominant=None):
+    """:func:`analyze_cycles` of a signal the caller has checked (inside a loop, a gap
+    gives NaN features rather than an error)."""
     x = np.asarray(x, dtype=float)
     if dominant is None:
         dominant = lambda: dominant_period(x)  # noqa: E731

@@ -8,6 +8,8 @@ from functools import lru_cache
 import numpy as np
 from scipy.fft import irfft, next_fast_len, rfft
 
+from ._signal import one_signal
+
 
 @dataclass
 class OscillationComponent:
@@ -153,7 +155,7 @@ def detect_oscillations(
     Parameters
     ----------
     x : array-like of shape (n_samples,)
-        One signal without NaN.
+        One signal; NaN padding at the end is dropped, NaN or inf inside is an error.
     max_components : int, default=3
         Most components reported.
     min_period : float, default=5.0
@@ -189,8 +191,8 @@ def detect_oscillations(
     >>> detect_oscillations(np.random.default_rng(0).normal(size=2000))[0].index < 0.1
     True
     """
-    x = np.asarray(x, dtype=float)
-    if x.size < 4 * min_period or not np.all(np.isfinite(x)) or np.ptp(x) == 0:
+    x = one_signal(x)
+    if x.size < 4 * min_period or np.ptp(x) == 0:
         return []
     power, m, _ = _power_spectrum(x)
     return _components(

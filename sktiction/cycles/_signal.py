@@ -8,6 +8,33 @@ import numpy as np
 from numba import njit
 
 
+def one_signal(x, name="x"):
+    """``x`` as a 1-D float array without its NaN padding at the end.
+
+    A loop array pads shorter records with NaN at the end (tslearn's layout), so
+    ``X[i, :, 1]`` of such an array is read as the record it holds. A value that is
+    not finite inside the record, or input that is not one signal, is an error: a gap
+    would otherwise read as "not oscillating".
+    """
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 1:
+        raise ValueError(f"{name} must be one signal (1-D); got shape {x.shape}.")
+    finite = np.isfinite(x)
+    if not finite.any():
+        raise ValueError(f"{name} holds no value (length {x.size}, all NaN or infinite).")
+    if finite.all():
+        return x
+    n = x.size - int(np.argmax(finite[::-1]))
+    if np.isnan(x[n:]).all() and finite[:n].all():
+        return x[:n]
+    bad = np.flatnonzero(~finite[:n])
+    raise ValueError(
+        f"{name} has {bad.size} NaN or infinite value(s) inside the record (first at sample "
+        f"{bad[0]} of {n}); cut the record at the gap or fill it (e.g. pandas' interpolate) "
+        "first. NaN only at the end is read as padding."
+    )
+
+
 def fast_median(x):
     """``np.median`` of a 1-D float array, to the bit, by sorting.
 

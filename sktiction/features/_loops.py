@@ -14,7 +14,8 @@ from sklearn.base import BaseEstimator, TransformerMixin
 from sklearn.utils.validation import check_is_fitted
 
 from .._validation import OP, PV, SP, loop_lengths, loop_status, validate_loops
-from ..cycles import analyze_cycles, dominant_period
+from ..cycles import dominant_period
+from ..cycles._analysis import _analyze_cycles
 
 _CHANNEL = {"pv": PV, "op": OP}
 
@@ -92,7 +93,7 @@ class LoopAnalysis:
         """:func:`~sktiction.cycles.analyze_cycles` of signal ``name``."""
         return self.memo(
             ("cycles", name, int(min_cycles)),
-            lambda: analyze_cycles(
+            lambda: _analyze_cycles(
                 self.signal(name),
                 min_cycles=int(min_cycles),
                 dominant=lambda: self.dominant_period(name),

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..cycles import analyze_cycles, horch_filter
+from ..cycles import horch_filter
+from ..cycles._analysis import _analyze_cycles
 from ._loops import LoopTransformer
 
 FILTERS = (None, "horch")
@@ -148,7 +149,7 @@ class AreaRatio(LoopTransformer):
 
     def half_cycles(self, error):
         """Analysis and per-half-cycle R of one control-error signal."""
-        analysis = analyze_cycles(error, min_cycles=int(self.min_cycles))
+        analysis = _analyze_cycles(error, min_cycles=int(self.min_cycles))
         return (analysis, *_ratios(analysis, self.filter))
 
     def _transform_analysis(self, loop):
