@@ -318,13 +318,14 @@ def _analyze_cycles(x, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
         dominant = lambda: dominant_period(x)  # noqa: E731
     components, p0, strength = [], np.nan, 0.0
     if x.size >= 20 and np.ptp(x) > 0:  # one spectrum for both the ACF and the components
-        power, m, filled = _power_spectrum(x)
+        power, m, filled, spacing = _power_spectrum(x)
         if filled:  # the dominant period is read from the signal as recorded
             p0, strength = dominant()
         else:
             acf = irfft(power, m)[: x.size // 2 + 1]
             p0, strength = first_lobe(acf / acf[0]) if acf[0] > 0 else (np.nan, 0.0)
-        components = _components(power, m, x.size, 3, 5.0, 3.5, 0.5, threshold)
+        # cycles of at least 5 fresh values: a finer export adds none
+        components = _components(power, m, x.size, 3, 5.0 * spacing, 3.5, 0.5, threshold)
     elif x.size > 2:
         p0, strength = dominant()
     found = [c for c in components if c.index > threshold]

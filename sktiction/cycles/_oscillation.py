@@ -61,6 +61,23 @@ def _fill_repeats(x):
     return np.interp(np.arange(x.size), idx, x[idx])
 
 
+def _fresh_spacing(y):
+    """Samples per fresh value: k when ``y`` (its repeats filled with lines) is a record
+    exported k times finer than it was stored, held or interpolated (straight pieces
+    of k samples, or multiples of k where two stored values are equal), else 1. The
+    spectrum of such an export ends at the stored record's Nyquist frequency, a band
+    edge that reads as a peak at 2k samples per cycle. A record of few levels (on/off,
+    a clean square wave) holds them on purpose and is read as it is."""
+    knots = np.flatnonzero(np.abs(np.diff(y, 2)) > 1e-9 * max(np.ptp(y), 1e-300))
+    if knots.size < 8:
+        return 1
+    pieces = np.diff(knots)
+    k = int(np.median(pieces))
+    if k < 2 or np.mean(pieces % k == 0) < 0.9 or np.unique(y[knots + 1]).size < 8:
+        return 1
+    return k
+
+
 def _smooth_constant_q(p, q):
     """Moving average of ``p`` over +-q*k bins around bin k (at least one each side)."""
     lo, hi, width = _constant_q_windows(p.size, q)
@@ -194,9 +211,9 @@ def detect_oscillations(
     x = one_signal(x)
     if x.size < 4 * min_period or np.ptp(x) == 0:
         return []
-    power, m, _ = _power_spectrum(x)
+    power, m, _, spacing = _power_spectrum(x)
     return _components(
-        power, m, x.size, max_components, min_period, min_cycles, bandwidth, threshold
+        power, m, x.size, max_components, min_period * spacing, min_cycles, bandwidth, threshold
     )
 
 
@@ -210,7 +227,7 @@ def _power_spectrum(x):
     y = filled - filled.mean() - t * (t @ filled) / (t @ t)  # straight-line detrend
     m = next_fast_len(2 * n, real=True)
     spec = rfft(y, m)
-    return spec.real**2 + spec.imag**2, m, filled is not x
+    return spec.real**2 + spec.imag**2, m, filled is not x, _fresh_spacing(filled)
 
 
 def _components(power, m, n, max_components, min_period, min_cycles, bandwidth, threshold):
