@@ -97,6 +97,11 @@ def test_utf16_needs_zeros_in_more_than_40_percent_of_its_half():
         # 3 of 5 rows (60 %) agree: enough; 2 of 5: not, the next separator is tried
         (["a;b", "1;2", "3;4", "5", "6"], (";", 2)),
         (["a;b", "1;2", "3", "4", "5,6"], (",", 1)),
+        # "|" in a PI AF path splits the data rows alike, not the header: a data row is
+        # no header, the next separator is taken
+        (["Tag,Time,Value"] + [r"\\S\DB\FIC1|PV,2026-01-05 08:00:00,1.5"] * 3, (",", 3)),
+        # no header under any separator: the first, whose error says so
+        (["27.11.2026 08:00:00;1,5;2,5", "27.11.2026 08:00:01;1,6;2,4"], (";", 3)),
     ],
 )
 def test_separator(lines, expected):

@@ -434,3 +434,16 @@ def test_jittered_stamps_a_stray_record_and_a_valve_that_stops_writing(tmp_path)
     assert meta["start"] >= START - pd.Timedelta("1s")
     assert np.nanmax(data.X[0, :, 0]) >= n - 3 and (data.X[0, -5:, 1] == 5.0).all()
     assert "F1.OP has no record for" in meta["reason"]
+
+
+def test_pi_af_attribute_paths_as_tags(tmp_path):
+    # \\server\database\element|attribute: "|" is no separator of the file and parts the
+    # element (the loop) from its attribute (the channel)
+    X, _, rows = _wide_and_rows()
+    af = rows.assign(Tag="\\\\PIAF01\\Refinery\\Unit2\\" + rows["Tag"] + "|" + rows["Parameter"])
+    af.drop(columns="Parameter").to_csv(tmp_path / "af.csv", index=False)
+    data = read_loop_file(tmp_path / "af.csv")
+    assert data.meta["status"].tolist() == ["ok", "ok"], data.meta["reason"].tolist()
+    assert data.meta["tag"].str.endswith(("FIC101", "LIC7")).all()
+    assert data.meta["isa"].tolist() == ["FIC", "LIC"]
+    np.testing.assert_array_equal(data.X, X)

@@ -12,9 +12,9 @@ Three layers:
 
 File layouts are in :mod:`sktiction.datasets._readers`, time columns in
 :mod:`sktiction.datasets._timestamps`. Columns are found by name, case-insensitively, also
-after a ``<tag>.``, ``<tag>_``, ``<tag> ``, ``<tag>:`` or ``<tag>/`` prefix (a value field
-``.CV`` or ``.Value`` after a channel name is dropped); a file with several prefixes
-(``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix.
+after a ``<tag>.``, ``<tag>_``, ``<tag> ``, ``<tag>:``, ``<tag>/`` or ``<tag>|`` prefix (a
+value field ``.CV`` or ``.Value`` after a channel name is dropped); a file with several
+prefixes (``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix.
 """
 
 from __future__ import annotations
@@ -51,8 +51,9 @@ _ALIASES = {
 }
 _TIME_UNIT = re.compile(r"[\[(_ ](ms|min|h)[\])]?$")
 _TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
-# Between a tag and a channel name: FIC1.PV, FIC1_PV, FIC1 PV, FIC1:PV, LIC1/PID1/PV.
-_TAG_SEPARATORS = (".", "_", " ", ":", "/")
+# Between a tag and a channel name: FIC1.PV, FIC1_PV, FIC1 PV, FIC1:PV, LIC1/PID1/PV, and
+# a PI AF element and its attribute, \\srv\db\FIC1|PV.
+_TAG_SEPARATORS = (".", "_", " ", ":", "/", "|")
 # A value field after a channel name (DeltaV PV.CV, OUT.CV; PI PV.Value).
 _FIELD = re.compile(r"[.:](cv|value)$", re.IGNORECASE)
 _KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}

@@ -130,16 +130,29 @@ def _fields(line, sep):
 
 
 def _choose_separator(lines):
-    """Separator splitting most of the last rows of the head into equal, >= 2 field counts."""
+    """Separator splitting most of the last rows of the head into equal, >= 2 field counts,
+    and whose header (its first row of that many fields) holds no date. A separator inside
+    one field (the ``|`` of a PI AF path ``\\\\srv\\db\\FIC1|PV``) splits every data row
+    alike but not the header, whose place a data row then takes; with no other such
+    separator, the first (a file without a header gets its error)."""
     rows = [ln for ln in lines[-50:] if ln.strip() and not ln.lstrip().startswith(_COMMENT)]
+    first = None
     for sep in _SEPARATORS:
         counts = [len(_fields(ln, sep)) for ln in rows]
         if not counts:
             break
         mode = max(set(counts), key=counts.count)
         if mode >= 2 and counts.count(mode) >= 0.6 * len(counts):
-            return sep, mode
-    return ",", 1
+            if not _DATE_LIKE.search(_first_row(lines, sep, mode)):
+                return sep, mode
+            first = first or (sep, mode)
+    return first or (",", 1)
+
+
+def _first_row(lines, sep, n_fields):
+    """The first line, not a comment, that ``sep`` splits into ``n_fields`` fields."""
+    rows = (ln for ln in lines if not ln.lstrip().startswith(_COMMENT))
+    return next((ln for ln in rows if len(_fields(ln, sep)) == n_fields), "")
 
 
 class Table:
