@@ -216,7 +216,8 @@ def test_times_of_day_without_dates_are_refused(tmp_path):
         (["TagName", "Parameter", "TimeStamp", "Value", "Confidence"], (2, 0, 3)),
         (["time", "FIC1.PV", "FIC1.OP"], None),  # wide
         (["Tag", "Value"], None),  # no time
-        (["Tag", "Time", "Date", "Value"], None),  # two times: ask, do not guess
+        (["Tag", "Time", "Timestamp", "Value"], None),  # two times: ask, do not guess
+        (["Tag", "Time", "Date", "Value"], (1, 0, 3)),  # a date and a time of day: joined
         (["Element", "Attribute", "Name", "DateTime UTC", "Value", "Average"], (3, 0, 4)),
         (["NAME", "TS", "VALUE"], (1, 0, 2)),  # IP.21 SQLplus
     ],
@@ -447,3 +448,16 @@ def test_pi_af_attribute_paths_as_tags(tmp_path):
     assert data.meta["tag"].str.endswith(("FIC101", "LIC7")).all()
     assert data.meta["isa"].tolist() == ["FIC", "LIC"]
     np.testing.assert_array_equal(data.X, X)
+
+def test_date_and_time_columns_of_a_long_export_are_joined(tmp_path):
+    X, _, rows = _wide_and_rows()
+    stamps = pd.to_datetime(rows.pop("Timestamp"))
+    rows.insert(2, "Date", stamps.dt.strftime("%d.%m.%Y"))
+    rows.insert(3, "Time", stamps.dt.strftime("%H:%M:%S"))
+    rows.to_csv(tmp_path / "long.csv", index=False)
+    data = read_loop_file(tmp_path / "long.csv")
+    assert data.meta["status"].tolist() == ["ok", "ok"], data.meta["reason"].tolist()
+    np.testing.assert_array_equal(data.X, X)
+    assert (data.meta["start"] == START).all() and (data.meta["ts"] == 10.0).all()
+    assert "time from columns Date + Time" in data.meta.loc[0, "reason"]
+

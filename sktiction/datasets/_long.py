@@ -62,9 +62,10 @@ def _norm(name):
 def long_columns(names, is_time, channels=None):
     """Positions of the long layout's columns, or None if ``names`` are not one.
 
-    Returns a dict with ``time``, ``tag``, ``value`` (ints), ``parameter`` (int or
-    None), ``quality`` and ``unused`` (lists of the other positions). ``is_time(name)``
-    says whether a column may hold the time; ``channels["time"]`` names it instead.
+    Returns a dict with ``time``, ``tag``, ``value`` (ints), ``parameter`` and ``date``
+    (int or None: a date column whose values go before the time's), ``quality`` and
+    ``unused`` (lists of the other positions). ``is_time(name)`` says whether a column may
+    hold the time; ``channels["time"]`` names it instead.
     """
     norm = [_norm(n) for n in names]
 
@@ -79,19 +80,31 @@ def long_columns(names, is_time, channels=None):
     tag, value = one(_TAG), one(_VALUE)
     if tag is None or value is None:
         return None
+    date = None
     if channels and channels.get("time") in names:
         time = names.index(channels["time"])
     else:
         hits = [i for i, n in enumerate(names) if is_time(n) or norm[i] in _TIME_EXTRA]
         hits = [i for i in hits if i not in (tag, value)]
+        date, hits = _date_column(norm, hits)
         if len(hits) != 1:
             return None
         time = hits[0]
-    found = {"time": time, "tag": tag, "value": value, "parameter": one(_PARAMETER),
+    found = {"time": time, "date": date, "tag": tag, "value": value,
+             "parameter": one(_PARAMETER),
              "quality": [i for i, n in enumerate(norm) if n in _QUALITY]}  # fmt: skip
-    used = {time, tag, value, found["parameter"], *found["quality"]} - {None}
+    used = {time, date, tag, value, found["parameter"], *found["quality"]} - {None}
     found["unused"] = [i for i in range(len(names)) if i not in used and names[i]]
     return found
+
+
+def _date_column(norm, hits):
+    """``(date, others)``: of two time columns, a date and a time of day (``Tag, Date,
+    Time, Value``), the date's position and the other; else ``(None, hits)``."""
+    dates = [i for i in hits if norm[i].endswith("date")]
+    if len(hits) == 2 and len(dates) == 1:
+        return dates[0], [i for i in hits if i != dates[0]]
+    return None, hits
 
 
 def time_owners(names, is_time):
@@ -280,13 +293,17 @@ def pivot_long(table, cols, to_numbers, *, loop_of=lambda tag: "", time_name="ti
     loop's tags share a span).
     """
     positions = [cols["time"], cols["tag"], cols["value"], *cols["quality"]]
-    positions += [cols["parameter"]] if cols["parameter"] is not None else []
+    positions += [cols[k] for k in ("parameter", "date") if cols[k] is not None]
     frame = table.read(positions)
     info, names = table.info, table.names
     notes = info["notes"]
     key = _keys(frame, cols)
+    raw = frame[cols["time"]]
+    if cols["date"] is not None:
+        raw = frame[cols["date"]].astype(str).str.strip() + " " + raw.astype(str).str.strip()
+        notes.append(f"time from columns {names[cols['date']]} + {names[cols['time']]}")
     try:
-        t, start, time_notes = _times(frame[cols["time"]], key, time_unit)
+        t, start, time_notes = _times(raw, key, time_unit)
     except TimeError as exc:
         raise FileError(f"long layout: time column {names[cols['time']]!r}: {exc}") from exc
     if any(n.startswith("time of day") for n in time_notes):
