@@ -39,19 +39,26 @@ __all__ = ["long_columns", "paired_table", "pivot_long", "time_owners"]
 # the tag is "Tag", with a "Value" and an "Average" the value is "Value".
 _TAG = ("tag", "tagname", "tag_name", "tagpath", "tag_path", "pointname", "point_name",
         "point", "itemid", "item_id", "itemname", "item_name", "item", "element", "name",
-        "signal", "variable", "series", "sensor")  # fmt: skip
+        "signal", "variable", "series", "sensor", "varname")  # fmt: skip
 _PARAMETER = ("parameter", "param", "attribute", "field", "property")
 _VALUE = ("value", "ip_trend_value", "_value", "val", "values", "reading", "avg", "average",
-          "mean")  # fmt: skip
+          "mean", "varvalue")  # fmt: skip
 _QUALITY = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qlevel",
-            "q", "questionable"}  # fmt: skip
+            "q", "questionable", "validity"}  # fmt: skip
 _TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts",
-               "datetime_utc", "timestamp_utc", "time_utc", "zeitstempel", "horodatage"}
+               "datetime_utc", "timestamp_utc", "time_utc", "zeitstempel", "horodatage",
+               "timestring"}
+# Siemens WinCC writes Time_ms beside its TimeString: days since 1899-12-30 times 10^6, not
+# milliseconds. Beside another time column it is not the time.
+_TIME_SHADOW = {"time_ms"}
 _GOOD = ("good", "ok", "valid", "normal")
 _TRUE, _FALSE = ("true", "1", "yes"), ("false", "0", "no")
 _TIME_OF_DAY = ("long layout with times of day but no dates: the tags' rows cannot be "
                 "placed against each other; export dates with the times")
 _OPC_GOOD = 192  # OPC quality codes: 192-255 good, below uncertain or bad
+# Quality columns whose name says the one good code: WinCC's Validity is 1 for a valid value
+# (0 invalid; its $RT_OFF$ / $RT_ON$ runtime markers carry other codes).
+_GOOD_CODE = {"validity": 1}
 _MAX_CELLS = 5e8  # 4 GB of float64: a grid step far below the records' (a stray stamp)
 
 
@@ -86,6 +93,8 @@ def long_columns(names, is_time, channels=None):
     else:
         hits = [i for i, n in enumerate(names) if is_time(n) or norm[i] in _TIME_EXTRA]
         hits = [i for i in hits if i not in (tag, value)]
+        if len(hits) > 1:
+            hits = [i for i in hits if norm[i] not in _TIME_SHADOW]
         date, hits = _date_column(norm, hits)
         if len(hits) != 1:
             return None
@@ -154,9 +163,14 @@ def _keys(frame, cols):
 
 def _bad_quality(col, name):
     """Rows whose quality says the value is not good, and a note: text other than good
-    (Good, OK, Valid), True in a column named questionable (PI), or OPC codes below 192;
+    (Good, OK, Valid), True in a column named questionable (PI), a code other than 1 in
+    one named validity (WinCC), or OPC codes below 192;
     other numeric codes are the vendor's own and are not read (the note says so)."""
     kind = col.dtype.kind
+    if kind in "fiu" and _norm(name) in _GOOD_CODE:
+        q = col.to_numpy(dtype=float)
+        bad = np.isfinite(q) & (q != _GOOD_CODE[_norm(name)])
+        return bad, _quality_note(bad, name)
     flag = None  # True / False flags, as bools, integers 0 / 1 or text
     if kind == "b":
         flag = col.fillna(False).to_numpy(dtype=bool)
