@@ -508,3 +508,14 @@ def test_wincc_validity_other_than_1_is_a_gap_runtime_markers_aside(tmp_path):
     assert "values of quality other than good read as NaN (column 'Validity')" in (
         data.meta.loc[0, "reason"]
     )
+
+
+def test_trailer_lines_after_a_long_export_are_skipped(tmp_path):
+    X, _, rows = _wide_and_rows()
+    rows["Tag"] += "." + rows.pop("Parameter")
+    text = rows.to_csv(index=False) + "\nEnd of data\nRows: 1800\n"
+    (tmp_path / "long.csv").write_text(text)
+    data = read_loop_file(tmp_path / "long.csv")
+    assert data.meta["status"].tolist() == ["ok", "ok"], data.meta["reason"].tolist()
+    np.testing.assert_array_equal(data.X, X)
+    assert "2 rows without a tag or a readable time skipped" in data.meta.loc[0, "reason"]

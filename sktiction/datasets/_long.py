@@ -280,6 +280,8 @@ def _times(raw, key, time_unit):
     valid = np.zeros(len(raw), dtype=bool)
     notes = []
     for idx in key.groupby(key, sort=False).indices.values():
+        if raw.iloc[idx].isna().all():
+            continue  # a "tag" without times: a trailer line (End of data), skipped below
         t, start, tag_notes = parse_times(raw.iloc[idx], unit=time_unit)
         if pd.isna(start):  # times of day
             raise FileError(_TIME_OF_DAY)
