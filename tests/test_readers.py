@@ -375,3 +375,26 @@ def test_text_file_line_ends(tmp_path, end):
 def test_blank_rows_as_pandas_finds_them(columns):
     frame = pd.DataFrame(columns)
     np.testing.assert_array_equal(_blank_rows(frame), frame.isna().all(axis=1).to_numpy())
+
+
+@pytest.mark.parametrize(
+    ("head", "times", "encoding"),
+    [
+        # Excel "Unicode text": UTF-16 with BOM, tabs, CRLF
+        ("Zeit\tTIC1.PV [°C]\tTIC1.OP [%]", ["27.11.2026 08:00:{:02d}"], "utf-16"),
+        ("Zeitstempel;TIC1.PV [°C];TIC1.OP [%]", ["27.11.2026 08:00:{:02d}"], "cp1252"),
+        ("Datum;Uhrzeit;TIC1.PV [µS/cm];TIC1.OP [%]", ["27.11.2026", "08:00:{:02d}"], "cp1252"),
+    ],
+)
+def test_german_time_column_names(tmp_path, head, times, encoding):
+    sep = "\t" if "\t" in head else ";"
+    rows = [sep.join([t.format(2 * i) for t in times] + [f"{50 + i},5", f"{40 - i},25"])
+            for i in range(10)]  # fmt: skip
+    text = "\r\n".join([head, *rows]) + "\r\n"
+    (tmp_path / "loop.csv").write_bytes(text.encode(encoding))
+    data = read_loop_file(tmp_path / "loop.csv")
+    assert data.meta.loc[0, "status"] == "ok", data.meta.loc[0, "reason"]
+    assert data.meta.loc[0, "ts"] == 2.0
+    assert data.meta.loc[0, "start"] == pd.Timestamp("2026-11-27 08:00:00")
+    np.testing.assert_array_equal(data.X[0, :, 0], 50.5 + np.arange(10))
+    np.testing.assert_array_equal(data.X[0, :, 1], 40.25 - np.arange(10))

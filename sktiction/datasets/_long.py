@@ -110,7 +110,7 @@ def long_columns(names, is_time, channels=None):
 def _date_column(norm, hits):
     """``(date, others)``: of two time columns, a date and a time of day (``Tag, Date,
     Time, Value``), the date's position and the other; else ``(None, hits)``."""
-    dates = [i for i in hits if norm[i].endswith("date")]
+    dates = [i for i in hits if norm[i].endswith(("date", "datum"))]
     if len(hits) == 2 and len(dates) == 1:
         return dates[0], [i for i in hits if i != dates[0]]
     return None, hits

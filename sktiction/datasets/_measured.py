@@ -46,9 +46,12 @@ _ALIASES = {
     "time": (
         "time", "t", "t_s", "time_s", "t_ms", "time_ms", "t_min", "time_min", "t_h", "time_h",
         "timestamp", "datetime", "date_time", "date",
+        # German DCS exports (WinCC, PCS7): Zeitstempel, or Datum and Uhrzeit
+        "zeit", "zeitstempel", "datum", "uhrzeit",
     ),
     "mode": ("mode", "aut", "auto"),
 }
+_DATE_NAMES = ("date", "datum")  # of a date column beside a time-of-day column
 _TIME_UNIT = re.compile(r"[\[(_ ](ms|min|h)[\])]?$")
 _TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
 # Between a tag and a channel name: FIC1.PV, FIC1_PV, FIC1 PV, FIC1:PV, LIC1/PID1/PV, and
@@ -230,7 +233,7 @@ def _plan(names, channels):
         time = [fixed.pop("time")]
     else:
         cand = [i for (prefix, key), pos in found.items() if key == "time" for i in pos]
-        dates = [i for i in cand if names[i].strip().lower().endswith("date")]
+        dates = [i for i in cand if names[i].strip().lower().endswith(_DATE_NAMES)]
         if len(cand) == 2 and len(dates) == 1:
             time = [dates[0], next(i for i in cand if i != dates[0])]
         elif len(cand) > 1:
@@ -661,10 +664,11 @@ def read_loop_file(
         ``<tag>/`` prefix (a field ``.CV`` or ``.Value`` after a channel is dropped:
         ``LIC1/PID1/OUT.CV`` is the OP of ``LIC1/PID1``): PV from PV/Y/CV, OP from
         OP/MV/OUT/CO, SP from SP/SV/SPT/SETPOINT, time from
-        TIME/T/T_S/TIMESTAMP/DATETIME/DATE (a DATE and a TIME column are joined), mode
-        from MODE. A unit in brackets ending a name is ignored (``FIC1.PV [m3/h]``), except
-        that relative times named in ``[ms]``, ``[min]``, ``[h]`` (or ``_ms``, ``_min``,
-        ``_h``) are scaled to seconds. Several prefixes with a PV each give one loop per
+        TIME/T/T_S/TIMESTAMP/DATETIME/DATE or German ZEIT/ZEITSTEMPEL/DATUM/UHRZEIT (a
+        DATE or DATUM and a TIME or UHRZEIT column are joined), mode from MODE. A unit in
+        brackets ending a name is ignored (``FIC1.PV [m3/h]``), except that relative times
+        named in ``[ms]``, ``[min]``, ``[h]`` (or ``_ms``, ``_min``, ``_h``) are scaled to
+        seconds. Several prefixes with a PV each give one loop per
         prefix; untagged columns beside a single tagged loop belong to it.
     ts : float or None, default=None
         Sampling time in seconds. Needed for files without a time column; when given it
