@@ -398,3 +398,38 @@ def test_german_time_column_names(tmp_path, head, times, encoding):
     assert data.meta.loc[0, "start"] == pd.Timestamp("2026-11-27 08:00:00")
     np.testing.assert_array_equal(data.X[0, :, 0], 50.5 + np.arange(10))
     np.testing.assert_array_equal(data.X[0, :, 1], 40.25 - np.arange(10))
+
+
+def _joined(head_a, head_b, n=20):
+    """Two exports of one loop joined, each with its header; the second from row 10."""
+    rows = [f"2026-11-27 08:00:{i:02d},{50 + i}.5,{40 - i}.25" for i in range(n)]
+    return "\n".join([head_a, *rows[:10], head_b, *rows[10:]]) + "\n"
+
+
+def test_a_repeated_header_is_skipped_and_said(tmp_path):
+    (tmp_path / "loop.csv").write_text(_joined("Time,PV,OP", "Time,PV,OP"))
+    data = read_loop_file(tmp_path / "loop.csv")
+    assert data.meta.loc[0, "status"] == "ok"
+    reason = data.meta.loc[0, "reason"]
+    assert reason == "1 repeated header row skipped (exports joined)"  # no text value read
+    np.testing.assert_array_equal(data.X[0, :, 0], 50.5 + np.arange(20))
+
+
+def test_a_header_in_another_order_is_an_error_not_swapped_channels(tmp_path):
+    # the second export lists OP first: its rows read under the first header had PV and OP
+    # swapped from row 11 on, status ok
+    (tmp_path / "loop.csv").write_text(_joined("Time,PV,OP", "Time,OP,PV"))
+    meta = read_loop_file(tmp_path / "loop.csv").meta
+    assert meta.loc[0, "status"] == "error"
+    assert meta.loc[0, "reason"].startswith("data row 11 is a header with the columns in "
+                                            "another order (['Time', 'OP', 'PV'])")  # fmt: skip
+
+
+def test_a_long_export_joined_with_its_header_repeated(tmp_path):
+    rows = [f"FIC1.{ch},2026-11-27 08:00:{i:02d},{i + c}.5"
+            for c, ch in enumerate(["PV", "OP"]) for i in range(20)]  # fmt: skip
+    text = "\n".join(["Tag,Timestamp,Value", *rows[:25], "Tag,Timestamp,Value", *rows[25:]])
+    (tmp_path / "long.csv").write_text(text + "\n")
+    data = read_loop_file(tmp_path / "long.csv")
+    assert data.meta.loc[0, "status"] == "ok", data.meta.loc[0, "reason"]
+    np.testing.assert_array_equal(data.X[0, :, 1], 1.5 + np.arange(20))

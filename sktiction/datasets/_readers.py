@@ -168,14 +168,41 @@ class Table:
         self._reader = reader
 
     def read(self, positions):
-        """Columns at ``positions`` (a list of int), named by position, blank rows counted."""
+        """Columns at ``positions`` (a list of int), named by position, blank rows and
+        repeated header rows counted."""
         frame = self._reader(sorted(set(positions)))
+        again = _repeated_header(frame, self.names)
+        if again is not None:
+            self.info["notes"].append(f"{count(int(again.sum()), 'repeated header row')} "
+                                      "skipped (exports joined)")  # fmt: skip
+            frame = frame.loc[~again].reset_index(drop=True)
         blank = _blank_rows(frame)
         if blank.any():
             # Rows without any value cannot be placed in time: drop them, say how many.
             self.info["notes"].append(f"{count(int(blank.sum()), 'blank row')} skipped")
             frame = frame.loc[~blank].reset_index(drop=True)
         return frame
+
+
+def _repeated_header(frame, names):
+    """Rows that repeat the header (exports joined, each with its header): a boolean array,
+    None if there are none. A row naming the columns in another order is an error: the
+    rows after it hold other channels than the header says."""
+    if len(frame.columns) < 2 or any(d.kind in "fiubmM" for d in frame.dtypes):
+        return None  # a header row makes every column text
+    text = {p: frame[p].astype(str).str.strip() for p in frame.columns}
+    known = {str(n).strip() for n in names}
+    named = np.logical_and.reduce([t.isin(known).to_numpy() for t in text.values()])
+    if not named.any():
+        return None
+    own = np.logical_and.reduce([(t == str(names[p]).strip()).to_numpy()
+                                 for p, t in text.items()])  # fmt: skip
+    if (named & ~own).any():
+        i = int(np.flatnonzero(named & ~own)[0])
+        row = [text[p].iloc[i] for p in frame.columns]
+        raise FileError(f"data row {i + 1} is a header with the columns in another order "
+                        f"({row}): exports joined; split the file there")  # fmt: skip
+    return own
 
 
 def _blank_rows(frame):
