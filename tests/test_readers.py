@@ -433,3 +433,41 @@ def test_a_long_export_joined_with_its_header_repeated(tmp_path):
     data = read_loop_file(tmp_path / "long.csv")
     assert data.meta.loc[0, "status"] == "ok", data.meta.loc[0, "reason"]
     np.testing.assert_array_equal(data.X[0, :, 1], 1.5 + np.arange(20))
+
+
+@pytest.mark.parametrize(("ts", "decimals"), [(1.0, 6), (1.0, 5), (10.0, 4), (0.5, 6)])
+def test_excel_serial_days_written_with_few_decimals(tmp_path, ts, decimals):
+    # a time column in General format: Excel writes what the cell shows; at 6 decimals
+    # (86.4 ms steps) 1 s samples were read 1.036 s apart and resampled
+    day0 = (pd.Timestamp("2026-11-27 08:00:00") - pd.Timestamp("1899-12-30")).days
+    serial = day0 + (8 * 3600 + ts * np.arange(300)) / 86400
+    rows = [f"{d:.{decimals}f},{50 + i % 7}.5" for i, d in enumerate(serial)]
+    (tmp_path / "loop.csv").write_text("\n".join(["Time,PV", *rows]) + "\n")
+    data = read_loop_file(tmp_path / "loop.csv")
+    assert data.meta.loc[0, "status"] == "ok", data.meta.loc[0, "reason"]
+    assert data.meta.loc[0, "ts"] == ts and data.X.shape == (1, 300, 3)
+    np.testing.assert_array_equal(data.X[0, :, 0], 50.5 + np.arange(300) % 7)
+    assert f"written to {decimals} decimals" in data.meta.loc[0, "reason"]
+
+
+def test_excel_serial_days_with_a_gap_keep_their_stamps(tmp_path):
+    # a gap of 30 rows: not a regular series whose stamps were rounded, read as before
+    day0 = (pd.Timestamp("2026-11-27") - pd.Timestamp("1899-12-30")).days
+    serial = day0 + np.delete(np.arange(300), range(100, 130)) / 86400
+    rows = [f"{d:.10f},{i % 7}" for i, d in enumerate(serial)]
+    (tmp_path / "loop.csv").write_text("\n".join(["Time,PV", *rows]) + "\n")
+    data = read_loop_file(tmp_path / "loop.csv")
+    assert data.meta.loc[0, "ts"] == 1.0 and data.X.shape == (1, 300, 3)
+    assert "written to" not in data.meta.loc[0, "reason"]
+
+
+def test_excel_serial_days_with_two_decimals_are_days(tmp_path):
+    # shown with 2 decimals (14.4 min) most rows share a stamp: still Excel days, and the
+    # error gives the stamps' resolution in seconds as it is (it said 0.01 s)
+    day0 = (pd.Timestamp("2026-11-27") - pd.Timestamp("1899-12-30")).days
+    serial = day0 + (8 * 3600 + np.arange(3000)) / 86400
+    rows = [f"{d:.2f},{i % 7}" for i, d in enumerate(serial)]
+    (tmp_path / "loop.csv").write_text("\n".join(["Time,PV", *rows]) + "\n")
+    meta = read_loop_file(tmp_path / "loop.csv").meta
+    assert meta.loc[0, "status"] == "error"
+    assert "a resolution of 864 s" in meta.loc[0, "reason"]
