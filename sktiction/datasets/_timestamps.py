@@ -104,8 +104,11 @@ def _excel_resolution(t, v):
     q = 86400.0 * 10.0**-digits
     n = tk.size
     step = (tk[-1] - tk[0]) / (n - 1)
-    if np.abs(tk - tk[0] - step * np.arange(n)).max() > 2 * q:
-        return t, ""  # gaps or irregular sampling: the stamps say more than their rounding
+    off = np.abs(tk - tk[0] - step * np.arange(n)).max()
+    if off > 2 * q or off <= 1e-3:
+        # gaps or irregular sampling: the stamps say more than their rounding; or a step
+        # the decimals hold exactly (6 h: 0.25 days)
+        return t, ""
     # the coarsest round step the stamps allow (1 s rather than 1.001 s)
     step = next((r for r in (round(step, k) for k in range(4)) if r > 0
                  and abs(r - step) * (n - 1) <= q), step)  # fmt: skip
