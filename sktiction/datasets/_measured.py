@@ -62,6 +62,8 @@ _FIELD = re.compile(r"[.:](cv|value)$", re.IGNORECASE)
 _KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}
 _LOOP_KEYS = ("pv", "op", "sp", "mode")
 _GROUPED = r"\s*[-+]?\d{1,3}(?:\.\d{3})+(?:,\d*)?\s*"  # 1.500,25 or 12.000
+# 1 234,5 (French, also with a no-break space) or 1'234.5 (Swiss): never a decimal mark
+_SPACED = r"\s*[-+]?\d{1,3}(?:['\u00a0\u202f ]\d{3})+(?:[.,]\d*)?\s*"
 _US_GROUPED = r"\s*[-+]?\d{1,3}(?:,\d{3})+(?:\.\d*)?\s*"  # 1,500.25 or 12,000
 _US_SURE = r"\s*[-+]?\d{1,3}(?:(?:,\d{3}){2,}(?:\.\d*)?|,\d{3}\.\d*)\s*"  # 1,500.2 1,000,000
 # Text in a MODE column: automatic (and cascade) count as closed loop.
@@ -291,6 +293,7 @@ def _numeric(col, name, decimal, strict):
     """
     if col.dtype.kind in "fiub":
         return col.to_numpy(dtype=float, na_value=np.nan), Counter(), ""
+    col, spaced = _spaced_grouping(col, name)
     text = col.astype(object)
     note = ""
     if decimal == ".":
@@ -302,6 +305,7 @@ def _numeric(col, name, decimal, strict):
         if grouped.any():
             text = text.where(~grouped, text.str.replace(".", "", regex=False))
         text = text.str.replace(",", ".", regex=False).where(col.notna(), None)
+    note = "; ".join(filter(None, [spaced, note]))
     values = pd.to_numeric(text, errors="coerce")
     bad = values.isna().to_numpy() & col.notna().to_numpy()
     if not bad.any():
@@ -316,6 +320,23 @@ def _numeric(col, name, decimal, strict):
             f"{col.iloc[idx[0]]!r} ({len(idx)} such values)"
         )
     return values.to_numpy(dtype=float), Counter(raw.tolist()), note
+
+
+def _spaced_grouping(col, name):
+    """Text column with thousands grouped by a space or an apostrophe (``1 234,5`` in
+    French, ``1'234.5`` in Swiss exports) ungrouped, and a note. Neither mark can be a
+    decimal one, so every cell grouped so in threes is read; before, each was status text.
+    """
+    text = col.astype(str)
+    grouped = text.str.fullmatch(_SPACED).to_numpy(dtype=bool, na_value=False)
+    grouped = grouped & col.notna().to_numpy()
+    if not grouped.any():
+        return col, ""
+    plain = text.str.replace(r"['\u00a0\u202f ]", "", regex=True)
+    n = count(int(grouped.sum()), "value")
+    return col.astype(object).where(~grouped, plain), (
+        f"thousands separators (space or ') in {name!r} removed ({n})"
+    )
 
 
 def _us_grouping(col, name):
