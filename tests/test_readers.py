@@ -471,3 +471,28 @@ def test_excel_serial_days_with_two_decimals_are_days(tmp_path):
     meta = read_loop_file(tmp_path / "loop.csv").meta
     assert meta.loc[0, "status"] == "error"
     assert "a resolution of 864 s" in meta.loc[0, "reason"]
+
+
+def test_summary_rows_above_the_header_are_skipped():
+    # a DCS report: minimum, maximum, mean of each column above the header; the first of
+    # them had been taken for the header (columns 'Minimum', '54,3', ...: no PV)
+    lines = ["Minimum;54,3;7,6", "Maximum;63,6;43,0", "", "Zeit;FIC1.PV;FIC1.OP",
+             "27.11.2026 08:00:00;55,1;20,5", "27.11.2026 08:00:01;55,2;20,4"]  # fmt: skip
+    sep, decimal, header, names, skip, notes = _header(lines)
+    assert (sep, decimal, header, names) == (";", ",", 3, ["Zeit", "FIC1.PV", "FIC1.OP"])
+    assert notes[0] == "3 lines before the header skipped (titles or comments)"
+    # numbers as column names stay names when no row of names follows
+    assert _header(["Time;101;102", "0;1,5;2", "1;2,5;3"])[2:4] == (0, ["Time", "101", "102"])
+
+
+def test_data_rows_above_the_header_are_an_error_not_titles():
+    # two exports joined, the second with a column more: the separator's field count is the
+    # second's, so its header was taken and the first export's rows skipped as titles
+    first = ["Time,PV,OP"] + [f"2026-11-27 08:00:{i:02d},{i}.5,40" for i in range(5)]
+    second = ["Time,PV,OP,MODE"] + [f"2026-11-27 08:01:{i:02d},{i}.5,40,AUTO" for i in range(60)]
+    with pytest.raises(FileError, match=r"^5 lines above the header \(line 7\) hold times and "
+                       "numbers: exports of other columns joined"):  # fmt: skip
+        _header(first + second)
+    # a title with a date and a number is a title
+    lines = ["Report 27.11.2026 08:00, 2 loops", "Time,PV,OP", "2026-11-27 08:00:00,1.5,40"]
+    assert _header(lines)[2] == 1

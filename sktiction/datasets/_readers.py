@@ -249,6 +249,31 @@ _COMMA_DECIMAL = re.compile(r"\s*[-+]?\d*,\d+\s*")
 _POINT_DECIMAL = re.compile(r"\s*[-+]?\d*\.\d+([eE][-+]?\d+)?\s*")
 
 
+def _past_summary_rows(lines, header, sep, n_fields):
+    """The header row past summary rows above it (``Minimum;54,3;7,6``: the header's width,
+    mostly numbers) when a row of names without a number follows within 20 lines; else
+    ``header`` (numbers as column names, ``Time;101;102``, stay names)."""
+    filled = [f for f in _fields(lines[header].lstrip("\ufeff"), sep) if f.strip()]
+    if sum(_is_number(f) for f in filled) <= len(filled) / 2:
+        return header
+    for k in range(header + 1, min(header + 21, len(lines))):
+        fields = _fields(lines[k], sep)
+        if len(fields) == n_fields and not any(_is_number(f) for f in fields if f.strip()):
+            return k
+    return header
+
+
+def _stamped_rows(lines, sep):
+    """How many of ``lines`` (skipped above the header) hold a time and a number: data
+    rows, not titles (two exports joined, the first of fewer columns)."""
+    n = 0
+    for ln in lines:
+        fields = [f for f in _fields(ln, sep) if f.strip()]
+        n += (len(fields) >= 2 and any(_DATE_LIKE.search(f) for f in fields)
+              and any(_is_number(f) for f in fields))  # fmt: skip
+    return n
+
+
 def _delimited_header(lines, notes):
     """Separator, decimal mark, header row index, names and rows to skip after it."""
     start = 0
@@ -272,7 +297,13 @@ def _delimited_header(lines, notes):
         break
     if header is None:
         raise FileError(f"no header row of {n_fields} columns found in the first lines")
+    header = _past_summary_rows(lines, header, sep, n_fields)
     if header > start:
+        stamped = _stamped_rows(lines[start:header], sep)
+        if stamped >= 3:
+            raise FileError(f"{count(stamped, 'line')} above the header (line {header + 1}) "
+                            "hold times and numbers: exports of other columns joined? Split "
+                            f"the file at line {header + 1}")  # fmt: skip
         skipped = count(header - start, "line")
         notes.append(f"{skipped} before the header skipped (titles or comments)")
     names = [f.strip().strip("\ufeff") for f in _fields(lines[header].lstrip("\ufeff"), sep)]
