@@ -1,9 +1,10 @@
 """Long (narrow) exports: one row per tag and time, pivoted to one column per tag.
 
 Historians and data lakes often export ``tag, time, value`` rows (OSIsoft PI, Aspen IP.21
-``NAME, IP_TREND_TIME, IP_TREND_VALUE``, Honeywell PHD, Canary, a Parquet table), some with
-a parameter column beside the tag (``FIC101, PV, ...``) and quality columns. Pivoted, the
-tags become column names (``FIC101.PV``) that the wide readers already match.
+``NAME, IP_TREND_TIME, IP_TREND_VALUE``, Honeywell PHD, Canary, Siemens WinCC ``VarName,
+TimeString, VarValue, Validity``, a Parquet table), some with a parameter column beside the
+tag (``FIC101, PV, ...``), the date and the time of day in two columns, and quality columns.
+Pivoted, the tags become column names (``FIC101.PV``) that the wide readers already match.
 
 Two kinds of time axis:
 
