@@ -190,19 +190,24 @@ def _repeated_header(frame, names):
     rows after it hold other channels than the header says."""
     if len(frame.columns) < 2 or any(d.kind in "fiubmM" for d in frame.dtypes):
         return None  # a header row makes every column text
-    text = {p: frame[p].astype(str).str.strip() for p in frame.columns}
     known = {str(n).strip() for n in names}
-    named = np.logical_and.reduce([t.isin(known).to_numpy() for t in text.values()])
-    if not named.any():
+    first = frame[frame.columns[0]]
+    # the rows whose first cell is a name, then only those: a column as text is slow
+    rows = np.flatnonzero(first.isin(known).to_numpy() | first.isin(names).to_numpy())
+    if rows.size == 0:
         return None
+    text = {p: frame[p].iloc[rows].astype(str).str.strip() for p in frame.columns}
+    named = np.logical_and.reduce([t.isin(known).to_numpy() for t in text.values()])
     own = np.logical_and.reduce([(t == str(names[p]).strip()).to_numpy()
                                  for p, t in text.items()])  # fmt: skip
     if (named & ~own).any():
         i = int(np.flatnonzero(named & ~own)[0])
         row = [text[p].iloc[i] for p in frame.columns]
-        raise FileError(f"data row {i + 1} is a header with the columns in another order "
-                        f"({row}): exports joined; split the file there")  # fmt: skip
-    return own
+        raise FileError(f"data row {rows[i] + 1} is a header with the columns in another "
+                        f"order ({row}): exports joined; split the file there")  # fmt: skip
+    again = np.zeros(len(frame), bool)
+    again[rows[own]] = True
+    return again if again.any() else None
 
 
 def _blank_rows(frame):
