@@ -430,3 +430,24 @@ def test_points_that_group_thousands_beside_a_decimal_comma(tmp_path):
     np.testing.assert_allclose(data.X[0, :, 0], [1500.25, 1499.75, 12000.0, 999.5])
     np.testing.assert_allclose(data.X[0, :, 1], [49.9, 50.1, 50.0, 50.2])
     assert data.meta.loc[0, "reason"] == "decimal comma"
+
+
+@pytest.mark.parametrize(
+    ("text", "note"),
+    [
+        # French: a space (or a no-break space) groups thousands, a comma is the decimal
+        ("t;PV;OP\n0;1 500,25;49,9\n1;1\u00a0499,75;50,1\n2;12 000;50,0\n3;999,5;50,2\n",
+         "decimal comma; thousands separators (space or ') in 'PV' removed (3 values)"),
+        # Swiss: an apostrophe groups thousands, a point is the decimal
+        ("t,PV,OP\n0,1'500.25,49.9\n1,1'499.75,50.1\n2,12'000,50.0\n3,999.5,50.2\n",
+         "thousands separators (space or ') in 'PV' removed (3 values)"),
+    ],
+)  # fmt: skip
+def test_spaces_and_apostrophes_that_group_thousands(tmp_path, text, note):
+    """Before, each grouped value was status text read as NaN: half a pressure loop lost."""
+    f = tmp_path / "PIC1.csv"
+    f.write_text(text, encoding="utf-8")
+    data = read_loop_file(f)
+    np.testing.assert_allclose(data.X[0, :, 0], [1500.25, 1499.75, 12000.0, 999.5])
+    np.testing.assert_allclose(data.X[0, :, 1], [49.9, 50.1, 50.0, 50.2])
+    assert data.meta.loc[0, "reason"] == note

@@ -97,6 +97,11 @@ def test_utf16_needs_zeros_in_more_than_40_percent_of_its_half():
         # 3 of 5 rows (60 %) agree: enough; 2 of 5: not, the next separator is tried
         (["a;b", "1;2", "3;4", "5", "6"], (";", 2)),
         (["a;b", "1;2", "3", "4", "5,6"], (",", 1)),
+        # "|" in a PI AF path splits the data rows alike, not the header: a data row is
+        # no header, the next separator is taken
+        (["Tag,Time,Value"] + [r"\\S\DB\FIC1|PV,2026-01-05 08:00:00,1.5"] * 3, (",", 3)),
+        # no header under any separator: the first, whose error says so
+        (["27.11.2026 08:00:00;1,5;2,5", "27.11.2026 08:00:01;1,6;2,4"], (";", 3)),
     ],
 )
 def test_separator(lines, expected):
@@ -370,3 +375,124 @@ def test_text_file_line_ends(tmp_path, end):
 def test_blank_rows_as_pandas_finds_them(columns):
     frame = pd.DataFrame(columns)
     np.testing.assert_array_equal(_blank_rows(frame), frame.isna().all(axis=1).to_numpy())
+
+
+@pytest.mark.parametrize(
+    ("head", "times", "encoding"),
+    [
+        # Excel "Unicode text": UTF-16 with BOM, tabs, CRLF
+        ("Zeit\tTIC1.PV [°C]\tTIC1.OP [%]", ["27.11.2026 08:00:{:02d}"], "utf-16"),
+        ("Zeitstempel;TIC1.PV [°C];TIC1.OP [%]", ["27.11.2026 08:00:{:02d}"], "cp1252"),
+        ("Datum;Uhrzeit;TIC1.PV [µS/cm];TIC1.OP [%]", ["27.11.2026", "08:00:{:02d}"], "cp1252"),
+    ],
+)
+def test_german_time_column_names(tmp_path, head, times, encoding):
+    sep = "\t" if "\t" in head else ";"
+    rows = [sep.join([t.format(2 * i) for t in times] + [f"{50 + i},5", f"{40 - i},25"])
+            for i in range(10)]  # fmt: skip
+    text = "\r\n".join([head, *rows]) + "\r\n"
+    (tmp_path / "loop.csv").write_bytes(text.encode(encoding))
+    data = read_loop_file(tmp_path / "loop.csv")
+    assert data.meta.loc[0, "status"] == "ok", data.meta.loc[0, "reason"]
+    assert data.meta.loc[0, "ts"] == 2.0
+    assert data.meta.loc[0, "start"] == pd.Timestamp("2026-11-27 08:00:00")
+    np.testing.assert_array_equal(data.X[0, :, 0], 50.5 + np.arange(10))
+    np.testing.assert_array_equal(data.X[0, :, 1], 40.25 - np.arange(10))
+
+
+def _joined(head_a, head_b, n=20):
+    """Two exports of one loop joined, each with its header; the second from row 10."""
+    rows = [f"2026-11-27 08:00:{i:02d},{50 + i}.5,{40 - i}.25" for i in range(n)]
+    return "\n".join([head_a, *rows[:10], head_b, *rows[10:]]) + "\n"
+
+
+def test_a_repeated_header_is_skipped_and_said(tmp_path):
+    (tmp_path / "loop.csv").write_text(_joined("Time,PV,OP", "Time,PV,OP"))
+    data = read_loop_file(tmp_path / "loop.csv")
+    assert data.meta.loc[0, "status"] == "ok"
+    reason = data.meta.loc[0, "reason"]
+    assert reason == "1 repeated header row skipped (exports joined)"  # no text value read
+    np.testing.assert_array_equal(data.X[0, :, 0], 50.5 + np.arange(20))
+
+
+def test_a_header_in_another_order_is_an_error_not_swapped_channels(tmp_path):
+    # the second export lists OP first: its rows read under the first header had PV and OP
+    # swapped from row 11 on, status ok
+    (tmp_path / "loop.csv").write_text(_joined("Time,PV,OP", "Time,OP,PV"))
+    meta = read_loop_file(tmp_path / "loop.csv").meta
+    assert meta.loc[0, "status"] == "error"
+    assert meta.loc[0, "reason"].startswith("data row 11 is a header with the columns in "
+                                            "another order (['Time', 'OP', 'PV'])")  # fmt: skip
+
+
+def test_a_long_export_joined_with_its_header_repeated(tmp_path):
+    rows = [f"FIC1.{ch},2026-11-27 08:00:{i:02d},{i + c}.5"
+            for c, ch in enumerate(["PV", "OP"]) for i in range(20)]  # fmt: skip
+    text = "\n".join(["Tag,Timestamp,Value", *rows[:25], "Tag,Timestamp,Value", *rows[25:]])
+    (tmp_path / "long.csv").write_text(text + "\n")
+    data = read_loop_file(tmp_path / "long.csv")
+    assert data.meta.loc[0, "status"] == "ok", data.meta.loc[0, "reason"]
+    np.testing.assert_array_equal(data.X[0, :, 1], 1.5 + np.arange(20))
+
+
+@pytest.mark.parametrize(("ts", "decimals"), [(1.0, 6), (1.0, 5), (10.0, 4), (0.5, 6)])
+def test_excel_serial_days_written_with_few_decimals(tmp_path, ts, decimals):
+    # a time column in General format: Excel writes what the cell shows; at 6 decimals
+    # (86.4 ms steps) 1 s samples were read 1.036 s apart and resampled
+    day0 = (pd.Timestamp("2026-11-27 08:00:00") - pd.Timestamp("1899-12-30")).days
+    serial = day0 + (8 * 3600 + ts * np.arange(300)) / 86400
+    rows = [f"{d:.{decimals}f},{50 + i % 7}.5" for i, d in enumerate(serial)]
+    (tmp_path / "loop.csv").write_text("\n".join(["Time,PV", *rows]) + "\n")
+    data = read_loop_file(tmp_path / "loop.csv")
+    assert data.meta.loc[0, "status"] == "ok", data.meta.loc[0, "reason"]
+    assert data.meta.loc[0, "ts"] == ts and data.X.shape == (1, 300, 3)
+    np.testing.assert_array_equal(data.X[0, :, 0], 50.5 + np.arange(300) % 7)
+    assert f"written to {decimals} decimals" in data.meta.loc[0, "reason"]
+
+
+def test_excel_serial_days_with_a_gap_keep_their_stamps(tmp_path):
+    # a gap of 30 rows: not a regular series whose stamps were rounded, read as before
+    day0 = (pd.Timestamp("2026-11-27") - pd.Timestamp("1899-12-30")).days
+    serial = day0 + np.delete(np.arange(300), range(100, 130)) / 86400
+    rows = [f"{d:.10f},{i % 7}" for i, d in enumerate(serial)]
+    (tmp_path / "loop.csv").write_text("\n".join(["Time,PV", *rows]) + "\n")
+    data = read_loop_file(tmp_path / "loop.csv")
+    assert data.meta.loc[0, "ts"] == 1.0 and data.X.shape == (1, 300, 3)
+    assert "written to" not in data.meta.loc[0, "reason"]
+
+
+def test_excel_serial_days_with_two_decimals_are_days(tmp_path):
+    # shown with 2 decimals (14.4 min) most rows share a stamp: still Excel days, and the
+    # error gives the stamps' resolution in seconds as it is (it said 0.01 s)
+    day0 = (pd.Timestamp("2026-11-27") - pd.Timestamp("1899-12-30")).days
+    serial = day0 + (8 * 3600 + np.arange(3000)) / 86400
+    rows = [f"{d:.2f},{i % 7}" for i, d in enumerate(serial)]
+    (tmp_path / "loop.csv").write_text("\n".join(["Time,PV", *rows]) + "\n")
+    meta = read_loop_file(tmp_path / "loop.csv").meta
+    assert meta.loc[0, "status"] == "error"
+    assert "a resolution of 864 s" in meta.loc[0, "reason"]
+
+
+def test_summary_rows_above_the_header_are_skipped():
+    # a DCS report: minimum, maximum, mean of each column above the header; the first of
+    # them had been taken for the header (columns 'Minimum', '54,3', ...: no PV)
+    lines = ["Minimum;54,3;7,6", "Maximum;63,6;43,0", "", "Zeit;FIC1.PV;FIC1.OP",
+             "27.11.2026 08:00:00;55,1;20,5", "27.11.2026 08:00:01;55,2;20,4"]  # fmt: skip
+    sep, decimal, header, names, skip, notes = _header(lines)
+    assert (sep, decimal, header, names) == (";", ",", 3, ["Zeit", "FIC1.PV", "FIC1.OP"])
+    assert notes[0] == "3 lines before the header skipped (titles or comments)"
+    # numbers as column names stay names when no row of names follows
+    assert _header(["Time;101;102", "0;1,5;2", "1;2,5;3"])[2:4] == (0, ["Time", "101", "102"])
+
+
+def test_data_rows_above_the_header_are_an_error_not_titles():
+    # two exports joined, the second with a column more: the separator's field count is the
+    # second's, so its header was taken and the first export's rows skipped as titles
+    first = ["Time,PV,OP"] + [f"2026-11-27 08:00:{i:02d},{i}.5,40" for i in range(5)]
+    second = ["Time,PV,OP,MODE"] + [f"2026-11-27 08:01:{i:02d},{i}.5,40,AUTO" for i in range(60)]
+    with pytest.raises(FileError, match=r"^5 lines above the header \(line 7\) hold times and "
+                       "numbers: exports of other columns joined"):  # fmt: skip
+        _header(first + second)
+    # a title with a date and a number is a title
+    lines = ["Report 27.11.2026 08:00, 2 loops", "Time,PV,OP", "2026-11-27 08:00:00,1.5,40"]
+    assert _header(lines)[2] == 1

@@ -216,7 +216,9 @@ def test_times_of_day_without_dates_are_refused(tmp_path):
         (["TagName", "Parameter", "TimeStamp", "Value", "Confidence"], (2, 0, 3)),
         (["time", "FIC1.PV", "FIC1.OP"], None),  # wide
         (["Tag", "Value"], None),  # no time
-        (["Tag", "Time", "Date", "Value"], None),  # two times: ask, do not guess
+        (["Tag", "Time", "Timestamp", "Value"], None),  # two times: ask, do not guess
+        (["Tag", "Time", "Date", "Value"], (1, 0, 3)),  # a date and a time of day: joined
+        (["VarName", "TimeString", "VarValue", "Validity", "Time_ms"], (1, 0, 2)),  # WinCC
         (["Element", "Attribute", "Name", "DateTime UTC", "Value", "Average"], (3, 0, 4)),
         (["NAME", "TS", "VALUE"], (1, 0, 2)),  # IP.21 SQLplus
     ],
@@ -434,3 +436,86 @@ def test_jittered_stamps_a_stray_record_and_a_valve_that_stops_writing(tmp_path)
     assert meta["start"] >= START - pd.Timedelta("1s")
     assert np.nanmax(data.X[0, :, 0]) >= n - 3 and (data.X[0, -5:, 1] == 5.0).all()
     assert "F1.OP has no record for" in meta["reason"]
+
+
+def test_pi_af_attribute_paths_as_tags(tmp_path):
+    # \\server\database\element|attribute: "|" is no separator of the file and parts the
+    # element (the loop) from its attribute (the channel)
+    X, _, rows = _wide_and_rows()
+    af = rows.assign(Tag="\\\\PIAF01\\Refinery\\Unit2\\" + rows["Tag"] + "|" + rows["Parameter"])
+    af.drop(columns="Parameter").to_csv(tmp_path / "af.csv", index=False)
+    data = read_loop_file(tmp_path / "af.csv")
+    assert data.meta["status"].tolist() == ["ok", "ok"], data.meta["reason"].tolist()
+    assert data.meta["tag"].str.endswith(("FIC101", "LIC7")).all()
+    assert data.meta["isa"].tolist() == ["FIC", "LIC"]
+    np.testing.assert_array_equal(data.X, X)
+
+
+def test_date_and_time_columns_of_a_long_export_are_joined(tmp_path):
+    X, _, rows = _wide_and_rows()
+    stamps = pd.to_datetime(rows.pop("Timestamp"))
+    rows.insert(2, "Date", stamps.dt.strftime("%d.%m.%Y"))
+    rows.insert(3, "Time", stamps.dt.strftime("%H:%M:%S"))
+    rows.to_csv(tmp_path / "long.csv", index=False)
+    data = read_loop_file(tmp_path / "long.csv")
+    assert data.meta["status"].tolist() == ["ok", "ok"], data.meta["reason"].tolist()
+    np.testing.assert_array_equal(data.X, X)
+    assert (data.meta["start"] == START).all() and (data.meta["ts"] == 10.0).all()
+    assert "time from columns Date + Time" in data.meta.loc[0, "reason"]
+
+
+def _wincc(X, invalid=(), markers=False):
+    """Siemens WinCC archive export lines of one loop: ``VarName;TimeString;VarValue;
+    Validity;Time_ms``, decimal comma, Time_ms in days since 1899-12-30 times 10^6."""
+    lines = ["VarName;TimeString;VarValue;Validity;Time_ms"]
+    for i in range(X.shape[0]):
+        stamp = START + pd.Timedelta(seconds=10 * i)
+        serial = (stamp - pd.Timestamp("1899-12-30")) / pd.Timedelta(days=1) * 1e6
+        ms = f"{serial:.4f}".replace(".", ",")
+        for c, ch in enumerate(["PV", "OP", "SP"]):
+            value = f"{X[i, c]:.6f}".replace(".", ",")
+            ok = int((i, c) not in invalid)
+            lines.append(f'"LIC104_{ch}";"{stamp:%d.%m.%Y %H:%M:%S}";{value};{ok};{ms}')
+        if markers and i == 100:
+            lines += [f'"$RT_OFF$";"{stamp:%d.%m.%Y %H:%M:%S}";0;2;{ms}',
+                      f'"$RT_ON$";"{stamp:%d.%m.%Y %H:%M:%S}";0;2;{ms}']  # fmt: skip
+    return "\r\n".join(lines) + "\r\n"
+
+
+def test_siemens_wincc_archive_export(tmp_path):
+    X, _ = make_loops(1, n_samples=300, random_state=0)
+    X = np.round(X[0], 6)
+    (tmp_path / "wincc.csv").write_text(_wincc(X), encoding="cp1252")
+    data = read_loop_file(tmp_path / "wincc.csv")
+    assert data.meta["status"].tolist() == ["ok"], data.meta["reason"].tolist()
+    assert data.meta.loc[0, "tag"] == "LIC104" and data.meta.loc[0, "ts"] == 10.0
+    assert data.meta.loc[0, "start"] == START  # from TimeString, not Time_ms
+    np.testing.assert_allclose(data.X[0], X, atol=1e-9)
+    assert "columns ['Time_ms'] not used" in data.meta.loc[0, "reason"]
+
+
+def test_wincc_validity_other_than_1_is_a_gap_runtime_markers_aside(tmp_path):
+    X, _ = make_loops(1, n_samples=300, random_state=0)
+    X = np.round(X[0], 6)
+    text = _wincc(X, invalid={(50, 0), (51, 0), (200, 1)}, markers=True)
+    (tmp_path / "wincc.csv").write_text(text, encoding="cp1252")
+    data = read_loop_file(tmp_path / "wincc.csv")
+    assert data.meta["status"].tolist() == ["ok"], data.meta["reason"].tolist()
+    got = data.X[0]
+    assert np.isnan(got[[50, 51], 0]).all() and np.isnan(got[200, 1])
+    assert np.isnan(got).sum() == 3
+    np.testing.assert_allclose(got[~np.isnan(got)], X[~np.isnan(got)], atol=1e-9)
+    assert "values of quality other than good read as NaN (column 'Validity')" in (
+        data.meta.loc[0, "reason"]
+    )
+
+
+def test_trailer_lines_after_a_long_export_are_skipped(tmp_path):
+    X, _, rows = _wide_and_rows()
+    rows["Tag"] += "." + rows.pop("Parameter")
+    text = rows.to_csv(index=False) + "\nEnd of data\nRows: 1800\n"
+    (tmp_path / "long.csv").write_text(text)
+    data = read_loop_file(tmp_path / "long.csv")
+    assert data.meta["status"].tolist() == ["ok", "ok"], data.meta["reason"].tolist()
+    np.testing.assert_array_equal(data.X, X)
+    assert "2 rows without a tag or a readable time skipped" in data.meta.loc[0, "reason"]

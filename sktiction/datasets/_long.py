@@ -1,9 +1,10 @@
 """Long (narrow) exports: one row per tag and time, pivoted to one column per tag.
 
 Historians and data lakes often export ``tag, time, value`` rows (OSIsoft PI, Aspen IP.21
-``NAME, IP_TREND_TIME, IP_TREND_VALUE``, Honeywell PHD, Canary, a Parquet table), some with
-a parameter column beside the tag (``FIC101, PV, ...``) and quality columns. Pivoted, the
-tags become column names (``FIC101.PV``) that the wide readers already match.
+``NAME, IP_TREND_TIME, IP_TREND_VALUE``, Honeywell PHD, Canary, Siemens WinCC ``VarName,
+TimeString, VarValue, Validity``, a Parquet table), some with a parameter column beside the
+tag (``FIC101, PV, ...``), the date and the time of day in two columns, and quality columns.
+Pivoted, the tags become column names (``FIC101.PV``) that the wide readers already match.
 
 Two kinds of time axis:
 
@@ -39,19 +40,26 @@ __all__ = ["long_columns", "paired_table", "pivot_long", "time_owners"]
 # the tag is "Tag", with a "Value" and an "Average" the value is "Value".
 _TAG = ("tag", "tagname", "tag_name", "tagpath", "tag_path", "pointname", "point_name",
         "point", "itemid", "item_id", "itemname", "item_name", "item", "element", "name",
-        "signal", "variable", "series", "sensor")  # fmt: skip
+        "signal", "variable", "series", "sensor", "varname")  # fmt: skip
 _PARAMETER = ("parameter", "param", "attribute", "field", "property")
 _VALUE = ("value", "ip_trend_value", "_value", "val", "values", "reading", "avg", "average",
-          "mean")  # fmt: skip
+          "mean", "varvalue")  # fmt: skip
 _QUALITY = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qlevel",
-            "q", "questionable"}  # fmt: skip
+            "q", "questionable", "validity"}  # fmt: skip
 _TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts",
-               "datetime_utc", "timestamp_utc", "time_utc", "zeitstempel", "horodatage"}
+               "datetime_utc", "timestamp_utc", "time_utc", "zeitstempel", "horodatage",
+               "timestring"}
+# Siemens WinCC writes Time_ms beside its TimeString: days since 1899-12-30 times 10^6, not
+# milliseconds. Beside another time column it is not the time.
+_TIME_SHADOW = {"time_ms"}
 _GOOD = ("good", "ok", "valid", "normal")
 _TRUE, _FALSE = ("true", "1", "yes"), ("false", "0", "no")
 _TIME_OF_DAY = ("long layout with times of day but no dates: the tags' rows cannot be "
                 "placed against each other; export dates with the times")
 _OPC_GOOD = 192  # OPC quality codes: 192-255 good, below uncertain or bad
+# Quality columns whose name says the one good code: WinCC's Validity is 1 for a valid value
+# (0 invalid; its $RT_OFF$ / $RT_ON$ runtime markers carry other codes).
+_GOOD_CODE = {"validity": 1}
 _MAX_CELLS = 5e8  # 4 GB of float64: a grid step far below the records' (a stray stamp)
 
 
@@ -62,9 +70,10 @@ def _norm(name):
 def long_columns(names, is_time, channels=None):
     """Positions of the long layout's columns, or None if ``names`` are not one.
 
-    Returns a dict with ``time``, ``tag``, ``value`` (ints), ``parameter`` (int or
-    None), ``quality`` and ``unused`` (lists of the other positions). ``is_time(name)``
-    says whether a column may hold the time; ``channels["time"]`` names it instead.
+    Returns a dict with ``time``, ``tag``, ``value`` (ints), ``parameter`` and ``date``
+    (int or None: a date column whose values go before the time's), ``quality`` and
+    ``unused`` (lists of the other positions). ``is_time(name)`` says whether a column may
+    hold the time; ``channels["time"]`` names it instead.
     """
     norm = [_norm(n) for n in names]
 
@@ -79,19 +88,33 @@ def long_columns(names, is_time, channels=None):
     tag, value = one(_TAG), one(_VALUE)
     if tag is None or value is None:
         return None
+    date = None
     if channels and channels.get("time") in names:
         time = names.index(channels["time"])
     else:
         hits = [i for i, n in enumerate(names) if is_time(n) or norm[i] in _TIME_EXTRA]
         hits = [i for i in hits if i not in (tag, value)]
+        if len(hits) > 1:
+            hits = [i for i in hits if norm[i] not in _TIME_SHADOW]
+        date, hits = _date_column(norm, hits)
         if len(hits) != 1:
             return None
         time = hits[0]
-    found = {"time": time, "tag": tag, "value": value, "parameter": one(_PARAMETER),
+    found = {"time": time, "date": date, "tag": tag, "value": value,
+             "parameter": one(_PARAMETER),
              "quality": [i for i, n in enumerate(norm) if n in _QUALITY]}  # fmt: skip
-    used = {time, tag, value, found["parameter"], *found["quality"]} - {None}
+    used = {time, date, tag, value, found["parameter"], *found["quality"]} - {None}
     found["unused"] = [i for i in range(len(names)) if i not in used and names[i]]
     return found
+
+
+def _date_column(norm, hits):
+    """``(date, others)``: of two time columns, a date and a time of day (``Tag, Date,
+    Time, Value``), the date's position and the other; else ``(None, hits)``."""
+    dates = [i for i in hits if norm[i].endswith(("date", "datum"))]
+    if len(hits) == 2 and len(dates) == 1:
+        return dates[0], [i for i in hits if i != dates[0]]
+    return None, hits
 
 
 def time_owners(names, is_time):
@@ -141,9 +164,14 @@ def _keys(frame, cols):
 
 def _bad_quality(col, name):
     """Rows whose quality says the value is not good, and a note: text other than good
-    (Good, OK, Valid), True in a column named questionable (PI), or OPC codes below 192;
+    (Good, OK, Valid), True in a column named questionable (PI), a code other than 1 in
+    one named validity (WinCC), or OPC codes below 192;
     other numeric codes are the vendor's own and are not read (the note says so)."""
     kind = col.dtype.kind
+    if kind in "fiu" and _norm(name) in _GOOD_CODE:
+        q = col.to_numpy(dtype=float)
+        bad = np.isfinite(q) & (q != _GOOD_CODE[_norm(name)])
+        return bad, _quality_note(bad, name)
     flag = None  # True / False flags, as bools, integers 0 / 1 or text
     if kind == "b":
         flag = col.fillna(False).to_numpy(dtype=bool)
@@ -253,6 +281,8 @@ def _times(raw, key, time_unit):
     valid = np.zeros(len(raw), dtype=bool)
     notes = []
     for idx in key.groupby(key, sort=False).indices.values():
+        if raw.iloc[idx].isna().all():
+            continue  # a "tag" without times: a trailer line (End of data), skipped below
         t, start, tag_notes = parse_times(raw.iloc[idx], unit=time_unit)
         if pd.isna(start):  # times of day
             raise FileError(_TIME_OF_DAY)
@@ -280,13 +310,17 @@ def pivot_long(table, cols, to_numbers, *, loop_of=lambda tag: "", time_name="ti
     loop's tags share a span).
     """
     positions = [cols["time"], cols["tag"], cols["value"], *cols["quality"]]
-    positions += [cols["parameter"]] if cols["parameter"] is not None else []
+    positions += [cols[k] for k in ("parameter", "date") if cols[k] is not None]
     frame = table.read(positions)
     info, names = table.info, table.names
     notes = info["notes"]
     key = _keys(frame, cols)
+    raw = frame[cols["time"]]
+    if cols["date"] is not None:
+        raw = frame[cols["date"]].astype(str).str.strip() + " " + raw.astype(str).str.strip()
+        notes.append(f"time from columns {names[cols['date']]} + {names[cols['time']]}")
     try:
-        t, start, time_notes = _times(frame[cols["time"]], key, time_unit)
+        t, start, time_notes = _times(raw, key, time_unit)
     except TimeError as exc:
         raise FileError(f"long layout: time column {names[cols['time']]!r}: {exc}") from exc
     if any(n.startswith("time of day") for n in time_notes):

@@ -12,9 +12,9 @@ Three layers:
 
 File layouts are in :mod:`sktiction.datasets._readers`, time columns in
 :mod:`sktiction.datasets._timestamps`. Columns are found by name, case-insensitively, also
-after a ``<tag>.``, ``<tag>_``, ``<tag> ``, ``<tag>:`` or ``<tag>/`` prefix (a value field
-``.CV`` or ``.Value`` after a channel name is dropped); a file with several prefixes
-(``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix.
+after a ``<tag>.``, ``<tag>_``, ``<tag> ``, ``<tag>:``, ``<tag>/`` or ``<tag>|`` prefix (a
+value field ``.CV`` or ``.Value`` after a channel name is dropped); a file with several
+prefixes (``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix.
 """
 
 from __future__ import annotations
@@ -46,18 +46,24 @@ _ALIASES = {
     "time": (
         "time", "t", "t_s", "time_s", "t_ms", "time_ms", "t_min", "time_min", "t_h", "time_h",
         "timestamp", "datetime", "date_time", "date",
+        # German DCS exports (WinCC, PCS7): Zeitstempel, or Datum and Uhrzeit
+        "zeit", "zeitstempel", "datum", "uhrzeit",
     ),
     "mode": ("mode", "aut", "auto"),
 }
+_DATE_NAMES = ("date", "datum")  # of a date column beside a time-of-day column
 _TIME_UNIT = re.compile(r"[\[(_ ](ms|min|h)[\])]?$")
 _TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
-# Between a tag and a channel name: FIC1.PV, FIC1_PV, FIC1 PV, FIC1:PV, LIC1/PID1/PV.
-_TAG_SEPARATORS = (".", "_", " ", ":", "/")
+# Between a tag and a channel name: FIC1.PV, FIC1_PV, FIC1 PV, FIC1:PV, LIC1/PID1/PV, and
+# a PI AF element and its attribute, \\srv\db\FIC1|PV.
+_TAG_SEPARATORS = (".", "_", " ", ":", "/", "|")
 # A value field after a channel name (DeltaV PV.CV, OUT.CV; PI PV.Value).
 _FIELD = re.compile(r"[.:](cv|value)$", re.IGNORECASE)
 _KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}
 _LOOP_KEYS = ("pv", "op", "sp", "mode")
 _GROUPED = r"\s*[-+]?\d{1,3}(?:\.\d{3})+(?:,\d*)?\s*"  # 1.500,25 or 12.000
+# 1 234,5 (French, also with a no-break space) or 1'234.5 (Swiss): never a decimal mark
+_SPACED = r"\s*[-+]?\d{1,3}(?:['\u00a0\u202f ]\d{3})+(?:[.,]\d*)?\s*"
 _US_GROUPED = r"\s*[-+]?\d{1,3}(?:,\d{3})+(?:\.\d*)?\s*"  # 1,500.25 or 12,000
 _US_SURE = r"\s*[-+]?\d{1,3}(?:(?:,\d{3}){2,}(?:\.\d*)?|,\d{3}\.\d*)\s*"  # 1,500.2 1,000,000
 # Text in a MODE column: automatic (and cascade) count as closed loop.
@@ -229,7 +235,7 @@ def _plan(names, channels):
         time = [fixed.pop("time")]
     else:
         cand = [i for (prefix, key), pos in found.items() if key == "time" for i in pos]
-        dates = [i for i in cand if names[i].strip().lower().endswith("date")]
+        dates = [i for i in cand if names[i].strip().lower().endswith(_DATE_NAMES)]
         if len(cand) == 2 and len(dates) == 1:
             time = [dates[0], next(i for i in cand if i != dates[0])]
         elif len(cand) > 1:
@@ -298,10 +304,13 @@ def _numeric(col, name, decimal, strict):
         if grouped.any():
             text = text.where(~grouped, text.str.replace(".", "", regex=False))
         text = text.str.replace(",", ".", regex=False).where(col.notna(), None)
-    values = pd.to_numeric(text, errors="coerce")
-    bad = values.isna().to_numpy() & col.notna().to_numpy()
+    values = pd.to_numeric(text, errors="coerce").to_numpy(dtype=float)
+    bad = np.isnan(values) & col.notna().to_numpy()
+    if bad.any():
+        values, bad, spaced = _spaced_grouping(col, values, bad, decimal, name)
+        note = "; ".join(filter(None, [note, spaced]))
     if not bad.any():
-        return values.to_numpy(dtype=float), Counter(), note
+        return values, Counter(), note
     idx = np.flatnonzero(bad)
     raw = col.iloc[idx].astype(str).str.strip()
     missing = raw.str.lower().isin(_MISSING_TEXT).to_numpy()
@@ -311,7 +320,30 @@ def _numeric(col, name, decimal, strict):
             f"column {name!r} is not numeric: row {idx[0] + 1} of the data holds "
             f"{col.iloc[idx[0]]!r} ({len(idx)} such values)"
         )
-    return values.to_numpy(dtype=float), Counter(raw.tolist()), note
+    return values, Counter(raw.tolist()), note
+
+
+def _spaced_grouping(col, values, bad, decimal, name):
+    """``values`` with the cells ``bad`` (not numbers) whose thousands are grouped by a
+    space or an apostrophe (``1 234,5`` in French, ``1'234.5`` in Swiss exports) read,
+    ``bad`` without them, and a note. Neither mark can be a decimal one; before, each
+    such cell was status text. Only the bad cells are looked at (a regex on every cell
+    doubled the time of a file with status text)."""
+    idx = np.flatnonzero(bad)
+    text = col.iloc[idx].astype(str)
+    grouped = text.str.fullmatch(_SPACED).to_numpy(dtype=bool, na_value=False)
+    if not grouped.any():
+        return values, bad, ""
+    plain = text[grouped].str.replace(r"['\u00a0\u202f\s]", "", regex=True)
+    number = pd.to_numeric(plain.str.replace(decimal, ".", regex=False), errors="coerce")
+    read = idx[grouped][number.notna().to_numpy()]
+    values, bad = values.copy(), bad.copy()
+    values[read] = number.dropna().to_numpy(dtype=float)
+    bad[read] = False
+    n = count(int(read.size), "value")
+    return values, bad, f"thousands separators (space or ') in {name!r} removed ({n})" * (
+        read.size > 0
+    )
 
 
 def _us_grouping(col, name):
@@ -660,10 +692,11 @@ def read_loop_file(
         ``<tag>/`` prefix (a field ``.CV`` or ``.Value`` after a channel is dropped:
         ``LIC1/PID1/OUT.CV`` is the OP of ``LIC1/PID1``): PV from PV/Y/CV, OP from
         OP/MV/OUT/CO, SP from SP/SV/SPT/SETPOINT, time from
-        TIME/T/T_S/TIMESTAMP/DATETIME/DATE (a DATE and a TIME column are joined), mode
-        from MODE. A unit in brackets ending a name is ignored (``FIC1.PV [m3/h]``), except
-        that relative times named in ``[ms]``, ``[min]``, ``[h]`` (or ``_ms``, ``_min``,
-        ``_h``) are scaled to seconds. Several prefixes with a PV each give one loop per
+        TIME/T/T_S/TIMESTAMP/DATETIME/DATE or German ZEIT/ZEITSTEMPEL/DATUM/UHRZEIT (a
+        DATE or DATUM and a TIME or UHRZEIT column are joined), mode from MODE. A unit in
+        brackets ending a name is ignored (``FIC1.PV [m3/h]``), except that relative times
+        named in ``[ms]``, ``[min]``, ``[h]`` (or ``_ms``, ``_min``, ``_h``) are scaled to
+        seconds. Several prefixes with a PV each give one loop per
         prefix; untagged columns beside a single tagged loop belong to it.
     ts : float or None, default=None
         Sampling time in seconds. Needed for files without a time column; when given it

@@ -130,16 +130,29 @@ def _fields(line, sep):
 
 
 def _choose_separator(lines):
-    """Separator splitting most of the last rows of the head into equal, >= 2 field counts."""
+    """Separator splitting most of the last rows of the head into equal, >= 2 field counts,
+    and whose header (its first row of that many fields) holds no date. A separator inside
+    one field (the ``|`` of a PI AF path ``\\\\srv\\db\\FIC1|PV``) splits every data row
+    alike but not the header, whose place a data row then takes; with no other such
+    separator, the first (a file without a header gets its error)."""
     rows = [ln for ln in lines[-50:] if ln.strip() and not ln.lstrip().startswith(_COMMENT)]
+    first = None
     for sep in _SEPARATORS:
         counts = [len(_fields(ln, sep)) for ln in rows]
         if not counts:
             break
         mode = max(set(counts), key=counts.count)
         if mode >= 2 and counts.count(mode) >= 0.6 * len(counts):
-            return sep, mode
-    return ",", 1
+            if not _DATE_LIKE.search(_first_row(lines, sep, mode)):
+                return sep, mode
+            first = first or (sep, mode)
+    return first or (",", 1)
+
+
+def _first_row(lines, sep, n_fields):
+    """The first line, not a comment, that ``sep`` splits into ``n_fields`` fields."""
+    rows = (ln for ln in lines if not ln.lstrip().startswith(_COMMENT))
+    return next((ln for ln in rows if len(_fields(ln, sep)) == n_fields), "")
 
 
 class Table:
@@ -155,14 +168,46 @@ class Table:
         self._reader = reader
 
     def read(self, positions):
-        """Columns at ``positions`` (a list of int), named by position, blank rows counted."""
+        """Columns at ``positions`` (a list of int), named by position, blank rows and
+        repeated header rows counted."""
         frame = self._reader(sorted(set(positions)))
+        again = _repeated_header(frame, self.names)
+        if again is not None:
+            self.info["notes"].append(f"{count(int(again.sum()), 'repeated header row')} "
+                                      "skipped (exports joined)")  # fmt: skip
+            frame = frame.loc[~again].reset_index(drop=True)
         blank = _blank_rows(frame)
         if blank.any():
             # Rows without any value cannot be placed in time: drop them, say how many.
             self.info["notes"].append(f"{count(int(blank.sum()), 'blank row')} skipped")
             frame = frame.loc[~blank].reset_index(drop=True)
         return frame
+
+
+def _repeated_header(frame, names):
+    """Rows that repeat the header (exports joined, each with its header): a boolean array,
+    None if there are none. A row naming the columns in another order is an error: the
+    rows after it hold other channels than the header says."""
+    if len(frame.columns) < 2 or any(d.kind in "fiubmM" for d in frame.dtypes):
+        return None  # a header row makes every column text
+    known = {str(n).strip() for n in names}
+    first = frame[frame.columns[0]]
+    # the rows whose first cell is a name, then only those: a column as text is slow
+    rows = np.flatnonzero(first.isin(known).to_numpy() | first.isin(names).to_numpy())
+    if rows.size == 0:
+        return None
+    text = {p: frame[p].iloc[rows].astype(str).str.strip() for p in frame.columns}
+    named = np.logical_and.reduce([t.isin(known).to_numpy() for t in text.values()])
+    own = np.logical_and.reduce([(t == str(names[p]).strip()).to_numpy()
+                                 for p, t in text.items()])  # fmt: skip
+    if (named & ~own).any():
+        i = int(np.flatnonzero(named & ~own)[0])
+        row = [text[p].iloc[i] for p in frame.columns]
+        raise FileError(f"data row {rows[i] + 1} is a header with the columns in another "
+                        f"order ({row}): exports joined; split the file there")  # fmt: skip
+    again = np.zeros(len(frame), bool)
+    again[rows[own]] = True
+    return again if again.any() else None
 
 
 def _blank_rows(frame):
@@ -209,6 +254,31 @@ _COMMA_DECIMAL = re.compile(r"\s*[-+]?\d*,\d+\s*")
 _POINT_DECIMAL = re.compile(r"\s*[-+]?\d*\.\d+([eE][-+]?\d+)?\s*")
 
 
+def _past_summary_rows(lines, header, sep, n_fields):
+    """The header row past summary rows above it (``Minimum;54,3;7,6``: the header's width,
+    mostly numbers) when a row of names without a number follows within 20 lines; else
+    ``header`` (numbers as column names, ``Time;101;102``, stay names)."""
+    filled = [f for f in _fields(lines[header].lstrip("\ufeff"), sep) if f.strip()]
+    if sum(_is_number(f) for f in filled) <= len(filled) / 2:
+        return header
+    for k in range(header + 1, min(header + 21, len(lines))):
+        fields = _fields(lines[k], sep)
+        if len(fields) == n_fields and not any(_is_number(f) for f in fields if f.strip()):
+            return k
+    return header
+
+
+def _stamped_rows(lines, sep):
+    """How many of ``lines`` (skipped above the header) hold a time and a number: data
+    rows, not titles (two exports joined, the first of fewer columns)."""
+    n = 0
+    for ln in lines:
+        fields = [f for f in _fields(ln, sep) if f.strip()]
+        n += (len(fields) >= 2 and any(_DATE_LIKE.search(f) for f in fields)
+              and any(_is_number(f) for f in fields))  # fmt: skip
+    return n
+
+
 def _delimited_header(lines, notes):
     """Separator, decimal mark, header row index, names and rows to skip after it."""
     start = 0
@@ -232,7 +302,13 @@ def _delimited_header(lines, notes):
         break
     if header is None:
         raise FileError(f"no header row of {n_fields} columns found in the first lines")
+    header = _past_summary_rows(lines, header, sep, n_fields)
     if header > start:
+        stamped = _stamped_rows(lines[start:header], sep)
+        if stamped >= 3:
+            raise FileError(f"{count(stamped, 'line')} above the header (line {header + 1}) "
+                            "hold times and numbers: exports of other columns joined? Split "
+                            f"the file at line {header + 1}")  # fmt: skip
         skipped = count(header - start, "line")
         notes.append(f"{skipped} before the header skipped (titles or comments)")
     names = [f.strip().strip("\ufeff") for f in _fields(lines[header].lstrip("\ufeff"), sep)]

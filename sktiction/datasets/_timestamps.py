@@ -58,7 +58,9 @@ def _numeric_unit(values):
     first = (_FIRST - _EXCEL_ORIGIN).days
     last = (_LAST - _EXCEL_ORIGIN).days
     if first <= lo and hi <= last and len(finite) > 1:
-        step = np.median(np.abs(np.diff(finite)))
+        steps = np.abs(np.diff(finite))
+        # of the steps that move: serials written with 2 decimals repeat over many rows
+        step = np.median(steps[steps > 0]) if (steps > 0).any() else 0.0
         if 0 < step < 1:  # sub-daily sampling expressed in days
             return "excel"
     return "s"
@@ -77,13 +79,43 @@ def _numeric_times(values, unit):
         # Excel stores about 15 digits: round to the millisecond so steps stay exact.
         t = np.round((v - v0) * 86400.0, 3)
         start = _EXCEL_ORIGIN + pd.to_timedelta(round(v0 * 86400.0, 3), unit="s")
-        return t, start, f"time read as Excel serial days (start {start})"
+        t, note = _excel_resolution(t, v)
+        return t, start, f"time read as Excel serial days (start {start}){note}"
     if unit in _EPOCH_SCALE:
         scale = _EPOCH_SCALE[unit]
         t = (v - v0) * scale
         start = pd.Timestamp(int(round(v0 * scale * 1e9)), unit="ns")
         return t, start, f"time read as {_EPOCH_NAMES[unit]} (start {start})"
     return v - v0, pd.NaT, ""
+
+
+def _excel_resolution(t, v):
+    """Seconds ``t`` of Excel serial days ``v`` written with few decimals (a cell in
+    General format writes what it shows: 6 decimals are steps of 86.4 ms), and a note.
+    Rounded so, 1 s samples were 0.95 or 1.04 s apart and read at 1.04 s; when every
+    stamp lies within two resolutions of a regular series, the rows are read at their
+    mean interval (rounded as far as the stamps allow)."""
+    ok = np.isfinite(v)
+    digits = next((d for d in range(8) if np.all(np.abs(v[ok] * 10.0**d
+                   - np.round(v[ok] * 10.0**d)) < 1e-3)), None)  # fmt: skip
+    tk = t[ok]
+    if digits is None or tk.size < 3 or (np.diff(tk) <= 0).any():
+        return t, ""  # written finely enough (1 ms or less), or not in order
+    q = 86400.0 * 10.0**-digits
+    n = tk.size
+    step = (tk[-1] - tk[0]) / (n - 1)
+    off = np.abs(tk - tk[0] - step * np.arange(n)).max()
+    if off > 2 * q or off <= 1e-3:
+        # gaps or irregular sampling: the stamps say more than their rounding; or a step
+        # the decimals hold exactly (6 h: 0.25 days)
+        return t, ""
+    # the coarsest round step the stamps allow (1 s rather than 1.001 s)
+    step = next((r for r in (round(step, k) for k in range(4)) if r > 0
+                 and abs(r - step) * (n - 1) <= q), step)  # fmt: skip
+    t = t.copy()
+    t[ok] = tk[0] + step * np.arange(n)
+    return t, (f"; written to {digits} decimals (a resolution of {q:g} s): rows read at "
+               f"their mean interval, {step:g} s")  # fmt: skip
 
 
 def _try_format(text, fmt, errors):
