@@ -5,9 +5,17 @@ about them."""
 import numpy as np
 import pytest
 
-from sktiction._cleaning import hold_step, placeholder_mask, remove_spikes, spike_mask
+from sktiction._cleaning import (
+    _paired,
+    align_op,
+    hold_step,
+    placeholder_mask,
+    remove_spikes,
+    spike_mask,
+)
+from sktiction._validation import check_loops, loop_lengths
 from sktiction.datasets import make_loops
-from sktiction.reports.scan import GAP_COLUMNS, repaired
+from sktiction.reports.scan import GAP_COLUMNS, repaired, scan_loops
 
 
 def _sine(n=600, period=50.0, noise=0.05, seed=0):
@@ -240,3 +248,45 @@ def test_a_setpoint_with_a_hole_is_a_gap_not_a_missing_setpoint():
     assert loop_status(check_loops(X)).tolist() == ["nan_gap", "ok"]
     fixed, gaps = repaired(X, "auto")
     assert loop_status(check_loops(fixed)).tolist() == ["ok", "ok"]
+
+
+def _shift_op(X, s):
+    """Each loop with OP[t + s] on the row of PV[t], as a misaligned export writes it."""
+    out = np.full_like(X, np.nan)
+    for i, n in enumerate(loop_lengths(X)):
+        rows = _paired(X[i], int(n), s)
+        out[i, : len(rows)] = rows
+    return out
+
+
+@pytest.mark.parametrize("s", [-2, -1, 1, 2])
+def test_op_out_of_step_with_pv_is_moved_back_in_line(s):
+    X = check_loops(make_loops(120, n_samples=1500, random_state=21)[0])
+    moved, shifts = align_op(_shift_op(X, s), loop_lengths(_shift_op(X, s)))
+    assert np.mean(shifts == -s) >= 0.5 and np.mean((shifts != 0) & (shifts != -s)) <= 0.03
+    k = abs(s)
+    for i in np.flatnonzero(shifts == -s)[:5]:  # back in line: the loop, |s| rows off each end
+        n = int(loop_lengths(X[i : i + 1])[0])
+        np.testing.assert_array_equal(moved[i, : n - 2 * k], X[i, k : n - k])
+        assert np.isnan(moved[i, n - 2 * k :]).all()
+
+
+def test_op_in_step_unrelated_or_short_is_left_as_recorded():
+    X = check_loops(make_loops(200, n_samples=1500, random_state=22)[0])
+    same, shifts = align_op(X, loop_lengths(X))
+    assert np.mean(shifts != 0) <= 0.02
+    np.testing.assert_array_equal(same[shifts == 0], X[shifts == 0])
+    rng = np.random.default_rng(0)
+    noise = rng.normal(size=(50, 1500, 3)).cumsum(axis=1)  # PV and OP of different loops
+    assert not align_op(noise, loop_lengths(noise))[1].any()
+    short = X[:5, :50]
+    assert not align_op(short, loop_lengths(short))[1].any()
+
+
+def test_the_scan_reports_how_far_it_moved_op():
+    X = check_loops(make_loops(30, n_samples=1500, random_state=23)[0])
+    early = _shift_op(X, 1)
+    report = scan_loops(early)
+    expected = align_op(early, loop_lengths(early))[1]
+    np.testing.assert_array_equal(report["op_shift"], expected)
+    assert (report["op_shift"] == -1).mean() >= 0.5

@@ -39,9 +39,11 @@ def no_gate(monkeypatch):
 
 def reference_scan(X, loop_types, learned):
     """The scan as it was before the shared pass: each classifier on its own (reference)."""
+    from sktiction._cleaning import align_op
     from sktiction._validation import check_loops, loop_lengths, loop_status
 
-    loops = check_loops(X)
+    # first OP in line with PV, as the scan does (a learned pipeline need not do it)
+    loops, shifts = align_op(check_loops(X), loop_lengths(check_loops(X)))
     ar = AreaRatioClassifier().fit(loops).diagnose(loops)
     parts = []
     for lt in pd.unique(loop_types):
@@ -73,6 +75,7 @@ def reference_scan(X, loop_types, learned):
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": np.asarray(band, dtype=float),
+            "op_shift": shifts,
             "reason": status,  # "ok" where the learned model judged the loop
         }
     )

@@ -10,7 +10,8 @@ analysis sits exactly on its threshold (quantised records), where rounding decid
 import numpy as np
 import pytest
 
-from sktiction._validation import check_loops, loop_status
+from sktiction._cleaning import align_op
+from sktiction._validation import check_loops, loop_lengths, loop_status
 from sktiction.classifiers import LearnedStictionClassifier
 from sktiction.datasets import make_loops
 from sktiction.features import _loops
@@ -73,7 +74,7 @@ def test_reuses_the_shared_analyses(model, loops, monkeypatch):
     def no_more(*args, **kwargs):
         raise AssertionError("a signal was analysed again")
 
-    monkeypatch.setattr(_loops, "analyze_cycles", no_more)
+    monkeypatch.setattr(_loops, "_analyze_cycles", no_more)
     got = model.diagnose_analysed(loops, analyses)
     np.testing.assert_array_equal(got["probability"], expected["probability"])
 
@@ -81,7 +82,9 @@ def test_reuses_the_shared_analyses(model, loops, monkeypatch):
 def test_scan_asks_the_shared_path(model, loops, monkeypatch):
     """The scan's probabilities are ``diagnose_analysed``'s; ``diagnose`` is never run."""
     monkeypatch.setattr(scan_module, "_applicability_gate", lambda: None)
-    expected = model.diagnose_analysed(loops, analyse_loops(loops))
+    aligned, shifts = align_op(loops, loop_lengths(loops))  # as the scan reads them
+    assert shifts.any()  # one of these loops is moved: the scan must use it so
+    expected = model.diagnose_analysed(aligned, analyse_loops(aligned))
 
     def no_diagnose(self, X):
         raise AssertionError("the scan analysed normalised loops again")

@@ -17,7 +17,7 @@ import pandas as pd
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.pipeline import FeatureUnion, Pipeline
 
-from .._cleaning import hold_step, remove_placeholders, remove_spikes
+from .._cleaning import align_op, hold_step, remove_placeholders, remove_spikes
 from .._validation import (
     STATUS_OK,
     check_loops,
@@ -45,6 +45,7 @@ REPORT_COLUMNS = [
     "stiction_size_mean",
     "stiction_size_max",
     "stiction_band_fit",
+    "op_shift",
     "reason",
 ]
 #: What input repair (:func:`repaired`) reports per loop: gap repair's
@@ -187,6 +188,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
         rules = _Rules(loops[:1])
     if not isinstance(learned, LearnedAdapter):
         learned = LearnedAdapter(learned)
+    loops, shifts = align_op(loops, loop_lengths(loops))
     analyses = analyse_loops(loops)
     status = loop_status(loops, require_op=True)
     ar = rules.area_ratio.diagnose_analysed(loops, analyses)
@@ -239,6 +241,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": band,
+            "op_shift": shifts,
             "reason": reason,
         }
     )
@@ -512,7 +515,8 @@ def scan_loops(
     (:func:`~sktiction.classifiers.applicability.assess_applicability`) rejects, with
     its reason (and then no ``stiction_probability``).
     ``shape_reason`` is the shape library's own (e.g. ``not_oscillating``: no size from
-    it).
+    it). ``op_shift`` is the number of rows OP was moved to line up with PV before
+    anything else (0: as recorded; see :func:`~sktiction._cleaning.align_op`).
 
     Parameters
     ----------
