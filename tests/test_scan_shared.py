@@ -82,8 +82,12 @@ def test_reuses_the_shared_analyses(model, loops, monkeypatch):
 def test_scan_asks_the_shared_path(model, loops, monkeypatch):
     """The scan's probabilities are ``diagnose_analysed``'s; ``diagnose`` is never run."""
     monkeypatch.setattr(scan_module, "_applicability_gate", lambda: None)
+    loops = loops.copy()
+    n = int(loop_lengths(loops[:1])[0])
+    loops[0, : n - 1, 1] = loops[0, 1:n, 1]  # OP one row early in the first loop
+    loops[0, n - 1] = np.nan
     aligned, shifts = align_op(loops, loop_lengths(loops))  # as the scan reads them
-    assert shifts.any()  # one of these loops is moved: the scan must use it so
+    assert shifts[0] == -1  # the scan must judge it moved back
     expected = model.diagnose_analysed(aligned, analyse_loops(aligned))
 
     def no_diagnose(self, X):

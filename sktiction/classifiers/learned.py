@@ -6,7 +6,7 @@ when the first learned model met data it had not seen:
 1. **Per-loop normalisation** (:func:`normalise_loops`): PV and SP are centred on PV's
    median and divided by PV's robust spread, OP by its own. Units, offsets and the
    size of the numbers cannot enter a feature, so a verdict never changes when a loop
-   is scaled (even by 1e12) or shifted. Before it, an OP recorded a row or two out of
+   is scaled (even by 1e12) or shifted. Before it, an OP recorded a row out of
    step with PV is moved back in line (:func:`~sktiction._cleaning.align_op`).
 2. **Features whose meaning carries over** from simulation to plants: area ratios,
    template distances, the fitted valve model and the PV-OP hysteresis
@@ -54,7 +54,17 @@ from sklearn.utils.validation import check_is_fitted, column_or_1d
 from threadpoolctl import threadpool_limits
 
 from .._cleaning import align_op
-from .._validation import OP, PV, SP, STATUS_OK, loop_lengths, loop_status, validate_loops
+from .._validation import (
+    OP,
+    PV,
+    SP,
+    STATUS_OK,
+    loop_lengths,
+    loop_status,
+    missing_samples,
+    repair_gaps,
+    validate_loops,
+)
 from . import _persistence
 
 #: Reasons :meth:`LearnedStictionClassifier.diagnose` gives for no verdict, besides the
@@ -160,11 +170,18 @@ def _raw_names():
 
 
 def _aligned(loops):
-    """Loops with each OP moved in line with its PV (:func:`~sktiction._cleaning.align_op`)
-    before a verdict: OP a row early had made the coupling test and the valve fits
-    misread 15-27 % of loops. Training loops are read as given: simulated ones are in
-    step by construction, and the search would move 0.7 % of them for nothing."""
-    return align_op(loops, loop_lengths(loops))[0]
+    """Loops as a verdict reads them, as a file scan does: NaN gaps inside a record
+    bridged or, past a long one, the longest stretch kept
+    (:func:`~sktiction._validation.repair_gaps`; one lost sample had cost a loop its
+    verdict), then each OP moved in line with its PV (:func:`~sktiction._cleaning.align_op`;
+    OP a row early had made the coupling test and the valve fits misread 15-27 % of
+    loops). Training loops are read as given: simulated ones are whole and in step by
+    construction, and the search would move 10 of the default model's 1,500 for nothing."""
+    lengths = loop_lengths(loops)
+    if any(missing_samples(x, n)[1].any() for x, n in zip(loops, lengths)):
+        loops = repair_gaps(loops)[0]
+        lengths = loop_lengths(loops)
+    return align_op(loops, lengths)[0]
 
 
 def _robust_spread(x):
@@ -661,6 +678,10 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
     def diagnose(self, X):
         """Per loop: verdict, calibrated probability, whether the model may speak, and why.
 
+        Each loop is read as a file scan reads it: short NaN gaps inside the record are
+        bridged and, past a long one, the longest stretch is kept; an OP recorded a row
+        out of step with PV is moved back in line (see :func:`_aligned`).
+
         Parameters
         ----------
         X : array-like of shape (n_loops, n_samples, n_channels)
@@ -746,7 +767,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             Columns follow ``classes_``; NaN where :meth:`diagnose` says
             ``in_domain`` is False.
         """
-        p = self.diagnose(X)["probability"].to_numpy()
+        p = _said(self.diagnose(X))["probability"].to_numpy()
         return np.column_stack([1.0 - p, p])
 
     def predict(self, X):
@@ -763,7 +784,22 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         -------
         y_pred : ndarray of shape (n_loops,)
         """
-        return self.diagnose(X)["prediction"].to_numpy()
+        return _said(self.diagnose(X))["prediction"].to_numpy()
+
+
+def _said(report):
+    """``report``, with a warning when some loops got no verdict: ``predict`` gives them
+    the negative class and ``predict_proba`` NaN, which a score would otherwise count
+    without a word."""
+    reasons = report["reason"][report["reason"] != STATUS_OK]
+    if len(reasons):
+        counts = ", ".join(f"{r}: {c}" for r, c in reasons.value_counts().items())
+        warnings.warn(
+            f"{len(reasons)} of {len(report)} loops got no verdict ({counts}); predict gives "
+            "them the negative class, predict_proba NaN. diagnose(X) says why per loop.",
+            UserWarning, stacklevel=3,
+        )
+    return report
 
 
 def make_learned_classifier(random_state=None, **params):

@@ -272,8 +272,10 @@ def analyze_cycles(
     Parameters
     ----------
     x : array-like of shape (n_samples,)
-        One signal. NaN at the end (the padding of a shorter record in a loop array)
-        is dropped; NaN or infinite values inside the record raise ``ValueError``.
+        One signal. NaN padding at either end (a shorter record in a loop array) is
+        dropped; a few NaN or infinite values inside the record are bridged with a
+        warning, more raise ``ValueError`` (see
+        :func:`~sktiction.cycles._signal.one_signal`).
     min_cycles : int, default=3
         Fewest consecutive regular full cycles that make an oscillating stretch.
     hysteresis : float, default=3.0

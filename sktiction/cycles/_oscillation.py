@@ -66,14 +66,24 @@ def _fresh_spacing(y):
     exported k times finer than it was stored, held or interpolated (straight pieces
     of k samples, or multiples of k where two stored values are equal), else 1. The
     spectrum of such an export ends at the stored record's Nyquist frequency, a band
-    edge that reads as a peak at 2k samples per cycle. A record of few levels (on/off,
-    a clean square wave) holds them on purpose and is read as it is."""
-    knots = np.flatnonzero(np.abs(np.diff(y, 2)) > 1e-9 * max(np.ptp(y), 1e-300))
+    edge that reads as a peak at 2k samples per cycle. Read as it is: a record of few
+    levels (on/off), and one whose stored values themselves cycle (a triangle or a
+    square wave drawn between its corners, a staircase), whose pieces are its cycle's."""
+    d2 = np.abs(np.diff(y, 2))
+    levels = np.unique(y)
+    # values written with few decimals: rounding bends an interpolated line by <= 2 steps
+    step = np.diff(levels).min() if levels.size > 1 else 0.0
+    knots = np.flatnonzero(d2 > max(1e-9 * max(np.ptp(y), 1e-300), 2.5 * step))
     if knots.size < 8:
         return 1
     pieces = np.diff(knots)
     k = int(np.median(pieces))
-    if k < 2 or np.mean(pieces % k == 0) < 0.9 or np.unique(y[knots + 1]).size < 8:
+    stored = y[knots + 1]
+    if k < 2 or np.mean(pieces % k == 0) < 0.9 or np.unique(stored).size < 8:
+        return 1
+    s = stored - stored.mean()
+    power = float(s @ s)
+    if power > 0 and max(abs(s[j:] @ s[:-j]) for j in (1, 2, 3, 4)) > 0.8 * power:
         return 1
     return k
 
@@ -136,7 +146,9 @@ def detect_oscillations(
        replaced by straight lines between the samples where the value changed.
     2. The signal is detrended (straight line); its periodogram, smoothed over +-4 %
        of each frequency, gives the candidate peaks between ``min_cycles`` cycles
-       per record and ``min_period`` samples per cycle: the highest peaks of the
+       per record and ``min_period`` samples per cycle (``k * min_period`` rows in
+       a record exported k times finer than it was stored, held or interpolated,
+       whose spectrum ends in a band edge at 2k rows per cycle): the highest peaks of the
        spectrum, and of the spectrum times f**2 (that of the first difference),
        where a cycle that is only a shoulder on a steep drift spectrum peaks.
     3. Prominence: peak power over the background, the geometric mean of the
@@ -172,11 +184,13 @@ def detect_oscillations(
     Parameters
     ----------
     x : array-like of shape (n_samples,)
-        One signal; NaN padding at the end is dropped, NaN or inf inside is an error.
+        One signal; NaN padding is dropped, a few lost samples bridged (as in
+        :func:`~sktiction.cycles.analyze_cycles`).
     max_components : int, default=3
         Most components reported.
     min_period : float, default=5.0
-        Shortest period searched, in samples.
+        Shortest period searched, in stored samples: in a record exported k times
+        finer than it was stored (see step 2 above), ``k * min_period`` rows.
     min_cycles : float, default=3.5
         Fewest cycles per record of the longest period searched.
     bandwidth : float, default=0.5

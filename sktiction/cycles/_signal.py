@@ -2,37 +2,56 @@
 
 from __future__ import annotations
 
+import warnings
 from functools import lru_cache
 
 import numpy as np
 from numba import njit
 
+#: Most of a record that :func:`one_signal` bridges, in all and per gap: a few lost
+#: samples are a historian's; more is a record to cut, not to fill.
+MAX_BRIDGED_SHARE, MAX_BRIDGED_RUN = 0.05, 0.01
+
 
 def one_signal(x, name="x"):
-    """``x`` as a 1-D float array without its NaN padding at the end.
+    """``x`` as a 1-D float array, without NaN padding at either end, short gaps bridged.
 
     A loop array pads shorter records with NaN at the end (tslearn's layout), so
-    ``X[i, :, 1]`` of such an array is read as the record it holds. A value that is
-    not finite inside the record, or input that is not one signal, is an error: a gap
-    would otherwise read as "not oscillating".
+    ``X[i, :, 1]`` of such an array is read as the record it holds; padding at the
+    start is dropped too. Values that are not finite inside the record are bridged by
+    straight lines, with a warning, when each run is at most 1 % of the record (at
+    least one sample) and all together at most 5 %; more is an error, as is input that
+    is not one signal or holds no value: a gap must not read as "not oscillating".
     """
     x = np.asarray(x, dtype=float)
     if x.ndim != 1:
         raise ValueError(f"{name} must be one signal (1-D); got shape {x.shape}.")
     finite = np.isfinite(x)
+    if finite.all() and x.size:
+        return x
     if not finite.any():
         raise ValueError(f"{name} holds no value (length {x.size}, all NaN or infinite).")
+    first, last = int(np.argmax(finite)), x.size - int(np.argmax(finite[::-1]))
+    if np.isnan(x[:first]).all() and np.isnan(x[last:]).all():
+        x, finite = x[first:last], finite[first:last]  # padding at either end
     if finite.all():
         return x
-    n = x.size - int(np.argmax(finite[::-1]))
-    if np.isnan(x[n:]).all() and finite[:n].all():
-        return x[:n]
-    bad = np.flatnonzero(~finite[:n])
-    raise ValueError(
-        f"{name} has {bad.size} NaN or infinite value(s) inside the record (first at sample "
-        f"{bad[0]} of {n}); cut the record at the gap or fill it (e.g. pandas' interpolate) "
-        "first. NaN only at the end is read as padding."
+    bad = np.flatnonzero(~finite)
+    starts = np.flatnonzero(np.diff(np.r_[False, ~finite].astype(int)) == 1)
+    ends = np.flatnonzero(np.diff(np.r_[~finite, False].astype(int)) == -1) + 1
+    longest = int((ends - starts).max())
+    if bad.size > MAX_BRIDGED_SHARE * x.size or longest > max(1, MAX_BRIDGED_RUN * x.size):
+        raise ValueError(
+            f"{name} has {bad.size} NaN or infinite value(s) inside the record (first at "
+            f"sample {bad[0]} of {x.size}, longest gap {longest}); too many to bridge: cut "
+            "the record at the gap or fill it first."
+        )
+    warnings.warn(
+        f"{name}: {bad.size} NaN or infinite value(s) inside the record (first at sample "
+        f"{bad[0]}) bridged by straight lines.", UserWarning, stacklevel=3,
     )
+    good = np.flatnonzero(finite)
+    return np.interp(np.arange(x.size), good, x[good])
 
 
 def fast_median(x):

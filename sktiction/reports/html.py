@@ -150,11 +150,13 @@ def _loop_getter(X, n):
 def _render(loops, ts, titles, dpi):
     """(base64 PNG or "error: ..." or None, median cycle period) for each loop given."""
     import matplotlib
+    import matplotlib.style
 
     from .plots import loop_cycles, plot_loop_summary
 
     out = []
-    with matplotlib.rc_context({"font.size": 8}):
+    # matplotlib's defaults, not the caller's style: a worker process draws the same
+    with matplotlib.style.context("default"), matplotlib.rc_context({"font.size": 8}):
         for one, step, title in zip(loops, ts, titles):
             if isinstance(one, str):  # the loop could not be read
                 out.append((one, np.nan))
@@ -181,20 +183,24 @@ def _read(loop_of, i):
         return f"error: {type(exc).__name__}: {exc}"
 
 
-def _figures(report, loop_of, order, ts, dpi, n_jobs, progress, chunk=8):
-    """Figures of the loops ``order``, drawn in chunks on ``n_jobs`` processes."""
+def _figures(report, loop_of, order, ts, dpi, n_jobs, progress, chunk=8, batch=4):
+    """Figures of the loops ``order``, drawn in chunks on ``n_jobs`` processes; loops
+    are read here, in order (a file read once), ``batch`` chunks at a time, so memory
+    holds a few chunks' loops, not every figure's."""
     from .scan import progress_bar, run_units
 
     order = sorted(order)
-    units = []
-    for a in range(0, len(order), chunk):
-        part = order[a : a + chunk]  # loops read here, in order (a file read once)
-        units.append(([_read(loop_of, i) for i in part], ts[part],
-                      [_figure_title(report, i) for i in part], dpi))
+    chunks = [order[a : a + chunk] for a in range(0, len(order), chunk)]
+    drawn = []
     with progress_bar(len(order), progress, unit="figure", desc="figures") as bar:
-        drawn = run_units(_render, units, (), n_jobs=n_jobs, bar=bar,
-                          sizes=[len(u[0]) for u in units])
-    return dict(zip(order, (d for part in drawn for d in part)))
+        for b in range(0, len(chunks), batch):
+            units = [([_read(loop_of, i) for i in part], ts[part],
+                      [_figure_title(report, i) for i in part], dpi)
+                     for part in chunks[b : b + batch]]  # fmt: skip
+            done = run_units(_render, units, (), n_jobs=n_jobs, bar=bar,
+                             sizes=[len(u[0]) for u in units])
+            drawn.extend(d for part in done for d in part)
+    return dict(zip(order, drawn))
 
 
 def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
