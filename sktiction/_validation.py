@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import warnings
 
 import numpy as np
 from sklearn.utils import check_array
@@ -111,6 +112,14 @@ def check_loops(X, *, name="X"):
         arr = check_array(
             X, dtype=np.float64, ensure_all_finite="allow-nan", input_name=name
         )[:, :, None]
+        rows, width = arr.shape[:2]
+        if width <= 3 and rows >= 20:  # more likely one loop's columns than records this short
+            warnings.warn(
+                f"{name} is 2-D of shape {(rows, width)}: read as {rows} PV records of "
+                f"{width} sample(s) each, too short to analyse. One loop with channels PV, "
+                f"OP, SP in its columns is {name}[None] (shape (1, {rows}, {width})).",
+                UserWarning, stacklevel=3,
+            )
     else:
         arr = np.asarray(X)
         if np.iscomplexobj(arr):

@@ -1,6 +1,7 @@
 """The per-loop plumbing every transformer shares (``features/_loops.py``)."""
 
 import re
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -174,6 +175,17 @@ def test_a_table_with_channel_columns_is_refused_as_many_loops():
         check_loops(one)
     assert check_loops(one.to_numpy()[None]).shape == (1, 300, 3)  # as the message says
     assert check_loops(pd.DataFrame(X[:, :, 0])).shape == (1, 300, 3)  # PV rows still fine
+
+
+def test_one_loop_as_a_plain_array_is_read_as_records_with_a_warning():
+    X, _ = make_loops(1, n_samples=300, random_state=0)
+    with pytest.warns(UserWarning, match=r"2-D of shape \(300, 3\): read as 300 PV records .* "
+                                         r"X\[None\] \(shape \(1, 300, 3\)\)"):
+        assert check_loops(X[0]).shape == (300, 3, 3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # PV records of a usable length: no warning
+        assert check_loops(X[:, :, 0]).shape == (1, 300, 3)
+        assert check_loops(np.zeros((10, 3))).shape == (10, 3, 3)
 
 
 @pytest.mark.parametrize(

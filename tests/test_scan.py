@@ -327,3 +327,12 @@ def test_scan_loops_bridges_gaps_as_scan_files_does_when_asked(small_learned, no
     pd.testing.assert_frame_equal(kept, expected, check_dtype=False)
     with pytest.raises(ValueError):
         scan_loops(X, classifier=small_learned, max_gap=-1)
+
+
+def test_a_scan_that_leaves_gaps_says_how_to_bridge_them(small_learned, no_gate):
+    X, types = mixed_loops()  # loop 2 has a gap of 40 rows
+    with pytest.warns(UserWarning, match=r"of 20 loops have NaN gaps .* max_gap='auto'") as w:
+        report = scan_loops(X, classifier=small_learned)
+    gaps = report["status"].eq("nan_gap").sum()
+    assert gaps >= 1 and str(w[0].message).startswith(f"{gaps} of 20 loops")
+    assert report.loc[2, "status"] == "nan_gap"

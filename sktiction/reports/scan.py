@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 import pickle
 import uuid
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -596,6 +597,13 @@ def scan_loops(
                           client=client, bar=bar, sizes=[len(u[1]) for u in units])
     gap_columns = list(GAP_COLUMNS) if max_gap is not None else []
     report = pd.concat(parts, ignore_index=True)[gap_columns + REPORT_COLUMNS]
+    gaps = int(report["status"].eq("nan_gap").sum())
+    if gaps and max_gap is None:
+        warnings.warn(
+            f"{gaps} of {n} loops have NaN gaps inside the record and got no verdict "
+            "(status nan_gap); scan_loops(X, max_gap='auto') bridges short gaps and keeps "
+            "the longest stretch, as scan_files does.", UserWarning, stacklevel=2,
+        )
     if meta is not None and "ts" in meta and max_gap is not None:
         meta = meta.copy()  # a hold undone: the rows read are k times further apart
         step = report["rows_per_value"].fillna(1.0).to_numpy()
