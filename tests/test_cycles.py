@@ -551,3 +551,12 @@ def test_segments_kernel_matches_the_numpy_medians():
         assert _segments(centred, crossings, peaks, kept) == _segments_numpy(
             centred, crossings, peaks, kept
         )
+
+
+def test_the_analysis_shows_its_decision_not_its_arrays():
+    a = analyze_cycles(np.sin(2 * np.pi * np.arange(5000) / 50))
+    text = repr(a)
+    assert text.startswith(
+        "CycleAnalysis(oscillating=True, oscillation_index=1.000, periods=[50.0]"
+    )
+    assert f"n_cycles={len(a.cycles)}" in text and len(text) < 200

@@ -94,6 +94,14 @@ class CycleAnalysis:
         """Half-cycles as rows (start, end) of fractional sample indices."""
         return np.column_stack([self.crossings[:-1], self.crossings[1:]])
 
+    def __repr__(self):
+        # the decision and what it rests on; the arrays are attributes, not a wall of numbers
+        return (f"CycleAnalysis(oscillating={self.oscillating}, "
+                f"oscillation_index={self.oscillation_index:.3f}, "
+                f"periods={np.round(self.periods, 1).tolist()}, n_cycles={len(self.cycles)}, "
+                f"period={self.period:.1f}, regularity={self.regularity:.2f}, "
+                f"n_samples={self.centred.size})")  # fmt: skip
+
 
 def _regular_runs(periods, tolerance):
     """Runs ``(start, stop)`` of consecutive cycles whose period is regular.
