@@ -49,15 +49,15 @@ def main():
     Xi, yi, _ = make_independent_loops(N_LOOPS, 6000, random_state=2026)
     print("judge / OP as recorded, one row early, one row late: balanced accuracy of the "
           "default model without / with re-alignment; share of loops moved")
-    aligned = learned._aligned
+    judged = learned._as_judged
     for name, X, y in (("default world, held out", Xd, yd), ("second simulator", Xi, yi)):
         for label, s in (("as recorded", 0), ("OP one row early", 1), ("OP one row late", -1)):
             Xs = shifted(X, s) if s else check_loops(X)
-            learned._aligned = lambda loops: loops  # the same model without the search
+            learned._as_judged = lambda loops: loops  # the same model without the search
             try:
                 before = score(model, Xs, y)
             finally:
-                learned._aligned = aligned
+                learned._as_judged = judged
             after = score(model, Xs, y)
             moved = np.mean(align_op(Xs, loop_lengths(Xs))[1] != 0)
             print(f"{name:24s} {label:17s} {before:.3f} -> {after:.3f}   moved {moved:.3f}")

@@ -169,7 +169,7 @@ def _raw_names():
     return list(_fitted_loop_features().get_feature_names_out()) + list(DOMAIN_STATISTICS)
 
 
-def _aligned(loops):
+def _as_judged(loops):
     """Loops as a verdict reads them, as a file scan does: NaN gaps inside a record
     bridged or, past a long one, the longest stretch kept
     (:func:`~sktiction._validation.repair_gaps`; one lost sample had cost a loop its
@@ -534,7 +534,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             ``pv_op_coupling_white`` and ``frozen_share``.
         """
         check_is_fitted(self, "model_")
-        loops = _aligned(validate_loops(self, X, reset=False))
+        loops = _as_judged(validate_loops(self, X, reset=False))
         return self._features(normalise_loops(loops))
 
     def _features(self, loops):
@@ -588,7 +588,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             Fitted classifier.
         """
         self._validate_params()
-        loops = validate_loops(self, X, reset=True)  # as given: see _aligned
+        loops = validate_loops(self, X, reset=True)  # as given: see _as_judged
         y = column_or_1d(y, warn=True)
         check_classification_targets(y)
         if len(y) != len(loops):
@@ -680,7 +680,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
 
         Each loop is read as a file scan reads it: short NaN gaps inside the record are
         bridged and, past a long one, the longest stretch is kept; an OP recorded a row
-        out of step with PV is moved back in line (see :func:`_aligned`).
+        out of step with PV is moved back in line (see :func:`_as_judged`).
 
         Parameters
         ----------
@@ -697,7 +697,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             ``out_of_domain:<feature>`` (the feature furthest outside its training range).
         """
         check_is_fitted(self, "model_")
-        loops = _aligned(validate_loops(self, X, reset=False))
+        loops = _as_judged(validate_loops(self, X, reset=False))
         return self._diagnose_features(loops, self._features(normalise_loops(loops)))
 
     def diagnose_analysed(self, loops, analyses, status=None):
