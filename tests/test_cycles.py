@@ -436,25 +436,25 @@ def test_nan_padding_at_the_end_is_the_record_it_pads():
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
-def test_a_few_lost_samples_are_bridged_and_said_a_long_gap_is_an_error(bad):
+def test_lost_samples_are_repaired_as_a_scan_repairs_them_and_said(bad):
     x = np.sin(2 * np.pi * np.arange(700) / 60)
     x[[100, 400, 401]] = bad
     bridged = x.copy()
     bridged[100] = (x[99] + x[101]) / 2
     bridged[400:402] = np.interp([400, 401], [399, 402], x[[399, 402]])
     for fn in (analyze_cycles, detect_oscillations):
-        with pytest.warns(UserWarning, match=r"3 NaN or infinite value\(s\) inside the record "
-                                             r"\(first at sample 100\) bridged"):
+        said = r"3 NaN or infinite value\(s\) inside the record \(first at sample 100 of 700\)"
+        with pytest.warns(UserWarning, match=said + ": short gaps bridged"):
             got = fn(x)
         want = fn(bridged)
         if fn is analyze_cycles:
             np.testing.assert_array_equal(got.centred, want.centred)
         else:
             assert got == want
-    x[300:308] = bad  # a gap longer than 1 % of the record: cut it, do not draw a line
-    with pytest.raises(ValueError, match=r"inside the record \(first at sample 100 of 700, "
-                                         r"longest gap 8\); too many to bridge"):
-        analyze_cycles(x)
+    x[300:308] = bad  # longer than 1 % of the record: it ends a stretch, the longest is kept
+    with pytest.warns(UserWarning, match=r"longest stretch .* kept, rows 308-700; short gaps"):
+        got = analyze_cycles(x)
+    np.testing.assert_array_equal(got.centred, analyze_cycles(bridged[308:]).centred)
     x[:] = np.sin(2 * np.pi * np.arange(700) / 60)
     x[:100] = x[600:] = np.nan  # padding at either end is not a gap
     assert analyze_cycles(x).centred.size == 500

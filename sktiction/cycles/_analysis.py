@@ -281,8 +281,9 @@ def analyze_cycles(
     ----------
     x : array-like of shape (n_samples,)
         One signal. NaN padding at either end (a shorter record in a loop array) is
-        dropped; a few NaN or infinite values inside the record are bridged with a
-        warning, more raise ``ValueError`` (see
+        dropped; NaN or infinite values inside the record are repaired as a scan
+        repairs them, with a warning: gaps of at most 1 % of the record bridged, past a
+        longer one the longest stretch kept (see
         :func:`~sktiction.cycles._signal.one_signal`).
     min_cycles : int, default=3
         Fewest consecutive regular full cycles that make an oscillating stretch.

@@ -184,7 +184,7 @@ def detect_oscillations(
     Parameters
     ----------
     x : array-like of shape (n_samples,)
-        One signal; NaN padding is dropped, a few lost samples bridged (as in
+        One signal; NaN padding is dropped, gaps repaired (as in
         :func:`~sktiction.cycles.analyze_cycles`).
     max_components : int, default=3
         Most components reported.

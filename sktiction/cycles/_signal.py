@@ -8,20 +8,21 @@ from functools import lru_cache
 import numpy as np
 from numba import njit
 
-#: Most of a record that :func:`one_signal` bridges, in all and per gap: a few lost
-#: samples are a historian's; more is a record to cut, not to fill.
-MAX_BRIDGED_SHARE, MAX_BRIDGED_RUN = 0.05, 0.01
+#: Longest gap :func:`one_signal` bridges, as a share of the record (at least one
+#: sample): a few lost samples are a historian's; a longer gap ends a stretch.
+MAX_BRIDGED_RUN = 0.01
 
 
 def one_signal(x, name="x"):
-    """``x`` as a 1-D float array, without NaN padding at either end, short gaps bridged.
+    """``x`` as a 1-D float array, without NaN padding at either end, gaps repaired.
 
     A loop array pads shorter records with NaN at the end (tslearn's layout), so
     ``X[i, :, 1]`` of such an array is read as the record it holds; padding at the
-    start is dropped too. Values that are not finite inside the record are bridged by
-    straight lines, with a warning, when each run is at most 1 % of the record (at
-    least one sample) and all together at most 5 %; more is an error, as is input that
-    is not one signal or holds no value: a gap must not read as "not oscillating".
+    start is dropped too. Values that are not finite inside the record are repaired as
+    a scan repairs them, with a warning: a gap of at most 1 % of the record (at least
+    one sample) is bridged by a straight line, a longer one splits the record and the
+    longest stretch is kept. Input that is not one signal or holds no value is an
+    error: a gap must not read as "not oscillating".
     """
     x = np.asarray(x, dtype=float)
     if x.ndim != 1:
@@ -36,22 +37,26 @@ def one_signal(x, name="x"):
         x, finite = x[first:last], finite[first:last]  # padding at either end
     if finite.all():
         return x
-    bad = np.flatnonzero(~finite)
+    n, bad = x.size, int((~finite).sum())
     starts = np.flatnonzero(np.diff(np.r_[False, ~finite].astype(int)) == 1)
     ends = np.flatnonzero(np.diff(np.r_[~finite, False].astype(int)) == -1) + 1
-    longest = int((ends - starts).max())
-    if bad.size > MAX_BRIDGED_SHARE * x.size or longest > max(1, MAX_BRIDGED_RUN * x.size):
-        raise ValueError(
-            f"{name} has {bad.size} NaN or infinite value(s) inside the record (first at "
-            f"sample {bad[0]} of {x.size}, longest gap {longest}); too many to bridge: cut "
-            "the record at the gap or fill it first."
-        )
-    warnings.warn(
-        f"{name}: {bad.size} NaN or infinite value(s) inside the record (first at sample "
-        f"{bad[0]}) bridged by straight lines.", UserWarning, stacklevel=3,
-    )
-    good = np.flatnonzero(finite)
-    return np.interp(np.arange(x.size), good, x[good])
+    long = (ends - starts) > max(1, MAX_BRIDGED_RUN * n)
+    note = f"{name}: {bad} NaN or infinite value(s) inside the record (first at sample " \
+        f"{starts[0]} of {n})"
+    if long.any():  # the longest stretch between long gaps
+        cuts = np.r_[0, ends[long]], np.r_[starts[long], n]
+        k = int(np.argmax(cuts[1] - cuts[0]))
+        a, b = int(cuts[0][k]), int(cuts[1][k])
+        note += f": the longest stretch between gaps of more than 1 % of it kept, rows {a}-{b}"
+        x, finite = x[a:b], finite[a:b]
+        ok = np.flatnonzero(finite)  # a stretch starts and ends on a value, or is cut there
+        x, finite = x[ok[0] : ok[-1] + 1], finite[ok[0] : ok[-1] + 1]
+    if not finite.all():
+        note += ("; " if long.any() else ": ") + "short gaps bridged by straight lines"
+        good = np.flatnonzero(finite)
+        x = np.interp(np.arange(x.size), good, x[good])
+    warnings.warn(note + ".", UserWarning, stacklevel=3)
+    return x
 
 
 def fast_median(x):
