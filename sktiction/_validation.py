@@ -293,6 +293,17 @@ def missing_samples(loop, n):
     return present, np.isnan(loop[:n, present]).any(axis=1)
 
 
+def gap_free_lengths(X):
+    """Lengths of ``X``'s loops if none misses a value (NaN or inf) before its end in a
+    channel it has, else None: then :func:`repair_gaps` has nothing to bridge, split or
+    cut."""
+    lengths = loop_lengths(X)
+    for x, n in zip(X, lengths):
+        if missing_samples(x, n)[1].any() or np.isinf(x[:n]).any():
+            return None
+    return lengths
+
+
 def repair_gaps(X, max_gap="auto", *, min_length=20):
     """Bridge short NaN gaps; split records at long ones and keep the longest stretch.
 

@@ -229,22 +229,22 @@ def test_the_applicability_gate_is_applied_to_files(tmp_path, monkeypatch):
 def test_gap_free_files_skip_repair_gaps_with_its_answer():
     """A file without a missing value gets repair_gaps' own info without running it; one
     with a gap, a leading NaN, or an inf in a channel it has goes through repair_gaps."""
-    from sktiction.reports.scan import _gap_free
+    from sktiction._validation import gap_free_lengths
 
     X, _ = make_loops(3, n_samples=300, random_state=0)
     X[1, 250:] = np.nan  # a shorter loop (padding)
     X[2, :, 2] = np.nan  # a loop without SP
-    lengths = _gap_free(X)
+    lengths = gap_free_lengths(X)
     _, info = repair_gaps(X)
     assert lengths.tolist() == info["kept_stop"].tolist() == [300, 250, 300]
     assert (info[["n_bridged", "n_gaps_split", "kept_start"]] == 0).all().all()
     for where in ((0, 100, 0), (1, 0, 1), (2, 10, 1)):
         bad = X.copy()
         bad[where] = np.nan
-        assert _gap_free(bad) is None
+        assert gap_free_lengths(bad) is None
     bad = X.copy()
     bad[0, 5, 1] = np.inf
-    assert _gap_free(bad) is None
+    assert gap_free_lengths(bad) is None
 
 
 @pytest.mark.parametrize("ts", [None, 2.0])

@@ -59,9 +59,9 @@ from .._validation import (
     PV,
     SP,
     STATUS_OK,
+    gap_free_lengths,
     loop_lengths,
     loop_status,
-    missing_samples,
     repair_gaps,
     validate_loops,
 )
@@ -177,8 +177,8 @@ def _as_judged(loops):
     OP a row early had made the coupling test and the valve fits misread 15-27 % of
     loops). Training loops are read as given: simulated ones are whole and in step by
     construction, and the search would move 10 of the default model's 1,500 for nothing."""
-    lengths = loop_lengths(loops)
-    if any(missing_samples(x, n)[1].any() for x, n in zip(loops, lengths)):
+    lengths = gap_free_lengths(loops)
+    if lengths is None:
         loops = repair_gaps(loops)[0]
         lengths = loop_lengths(loops)
     return align_op(loops, lengths)[0]

@@ -22,9 +22,9 @@ from .._cleaning import align_op, hold_step, remove_placeholders, remove_spikes
 from .._validation import (
     STATUS_OK,
     check_loops,
+    gap_free_lengths,
     loop_lengths,
     loop_status,
-    missing_samples,
     repair_gaps,
 )
 from ..classifiers import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
@@ -422,16 +422,6 @@ def _scan_unit(loops, loop_types, ts, learned, rules, gate, max_gap=None):
     return pd.concat([pd.DataFrame(gaps, columns=list(GAP_COLUMNS)), report], axis=1)
 
 
-def _gap_free(X):
-    """Lengths of ``X``'s loops if none misses a value (NaN or inf) before its end in a
-    channel it has, else None: then ``repair_gaps`` has nothing to bridge, split or cut."""
-    lengths = loop_lengths(X)
-    for x, n in zip(X, lengths):
-        if missing_samples(x, n)[1].any() or np.isinf(x[:n]).any():
-            return None
-    return lengths
-
-
 def _undo_artefacts(loops, idx, lengths):
     """Undo regular holds, remove spikes and read placeholders as gaps
     (:mod:`sktiction._cleaning`) in loops ``idx`` (of ``lengths`` samples), in place.
@@ -475,7 +465,7 @@ def repaired(loops, max_gap, usable=None):
         return loops, gaps
     lengths_in = loop_lengths(loops[idx])
     step, phase, spikes, placeholders = _undo_artefacts(loops, idx, lengths_in).T
-    lengths = _gap_free(loops[idx])
+    lengths = gap_free_lengths(loops[idx])
     if lengths is not None:  # most records: what repair_gaps would say, without its work
         info = {"n_bridged": 0, "n_gaps_split": 0, "kept_start": 0, "kept_stop": lengths}
     else:
