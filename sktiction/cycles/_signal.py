@@ -8,6 +8,8 @@ from functools import lru_cache
 import numpy as np
 from numba import njit
 
+from .._validation import repair_gaps
+
 #: Longest gap :func:`one_signal` bridges, as a share of the record (at least one
 #: sample): a few lost samples are a historian's; a longer gap ends a stretch.
 MAX_BRIDGED_RUN = 0.01
@@ -37,26 +39,19 @@ def one_signal(x, name="x"):
         x, finite = x[first:last], finite[first:last]  # padding at either end
     if finite.all():
         return x
-    n, bad = x.size, int((~finite).sum())
-    starts = np.flatnonzero(np.diff(np.r_[False, ~finite].astype(int)) == 1)
-    ends = np.flatnonzero(np.diff(np.r_[~finite, False].astype(int)) == -1) + 1
-    long = (ends - starts) > max(1, MAX_BRIDGED_RUN * n)
-    note = f"{name}: {bad} NaN or infinite value(s) inside the record (first at sample " \
-        f"{starts[0]} of {n})"
-    if long.any():  # the longest stretch between long gaps
-        cuts = np.r_[0, ends[long]], np.r_[starts[long], n]
-        k = int(np.argmax(cuts[1] - cuts[0]))
-        a, b = int(cuts[0][k]), int(cuts[1][k])
+    n = x.size
+    limit = max(1, int(MAX_BRIDGED_RUN * n))
+    fixed, info = repair_gaps(np.where(finite, x, np.nan)[None, :, None], max_gap=limit)
+    a, b = int(info["kept_start"].iloc[0]), int(info["kept_stop"].iloc[0])
+    note = (f"{name}: {int((~finite).sum())} NaN or infinite value(s) inside the record "
+            f"(first at sample {int(np.argmin(finite))} of {n})")
+    if info["n_gaps_split"].iloc[0]:
         note += f": the longest stretch between gaps of more than 1 % of it kept, rows {a}-{b}"
-        x, finite = x[a:b], finite[a:b]
-        ok = np.flatnonzero(finite)  # a stretch starts and ends on a value, or is cut there
-        x, finite = x[ok[0] : ok[-1] + 1], finite[ok[0] : ok[-1] + 1]
-    if not finite.all():
-        note += ("; " if long.any() else ": ") + "short gaps bridged by straight lines"
-        good = np.flatnonzero(finite)
-        x = np.interp(np.arange(x.size), good, x[good])
+    if info["n_bridged"].iloc[0]:
+        note += ("; " if info["n_gaps_split"].iloc[0] else ": ") + "short gaps bridged by " \
+            "straight lines"
     warnings.warn(note + ".", UserWarning, stacklevel=3)
-    return x
+    return np.ascontiguousarray(fixed[0, : b - a, 0])
 
 
 def fast_median(x):
