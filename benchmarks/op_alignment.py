@@ -19,10 +19,9 @@ import numpy as np
 from independent_world import make_independent_loops
 from sklearn.metrics import balanced_accuracy_score
 
-from sktiction import pretrained_classifier
+from sktiction import _cleaning, pretrained_classifier
 from sktiction._cleaning import _paired, align_op
 from sktiction._validation import check_loops, loop_lengths
-from sktiction.classifiers import learned
 from sktiction.datasets import make_loops
 
 N_LOOPS = int(sys.argv[1]) if len(sys.argv) > 1 else 400
@@ -49,15 +48,16 @@ def main():
     Xi, yi, _ = make_independent_loops(N_LOOPS, 6000, random_state=2026)
     print("judge / OP as recorded, one row early, one row late: balanced accuracy of the "
           "default model without / with re-alignment; share of loops moved")
-    judged = learned._as_judged
+    search = _cleaning.align_op
     for name, X, y in (("default world, held out", Xd, yd), ("second simulator", Xi, yi)):
         for label, s in (("as recorded", 0), ("OP one row early", 1), ("OP one row late", -1)):
             Xs = shifted(X, s) if s else check_loops(X)
-            learned._as_judged = lambda loops: loops  # the same model without the search
+            # the same model without the search
+            _cleaning.align_op = lambda loops, lengths: (loops, np.zeros(len(loops), int))
             try:
                 before = score(model, Xs, y)
             finally:
-                learned._as_judged = judged
+                _cleaning.align_op = search
             after = score(model, Xs, y)
             moved = np.mean(align_op(Xs, loop_lengths(Xs))[1] != 0)
             print(f"{name:24s} {label:17s} {before:.3f} -> {after:.3f}   moved {moved:.3f}")

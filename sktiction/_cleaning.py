@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._validation import gap_free_lengths, loop_lengths, repair_gaps
 from .cycles._signal import fast_percentile
 
 #: Widest spike removed, in samples.
@@ -326,3 +327,18 @@ def align_op(loops, lengths):
         out[i, : len(moved)] = moved
     return out, shifts
 
+
+
+def as_judged(loops, *, align=True):
+    """Checked ``loops`` as every classifier reads them, as a file scan does.
+
+    NaN gaps inside a record are bridged or, past a long one, the longest stretch is kept
+    (:func:`~sktiction._validation.repair_gaps`; one lost sample had cost a loop its
+    verdict); then, with ``align``, each OP is moved in line with its PV
+    (:func:`align_op`). ``loops`` itself is left as it is.
+    """
+    lengths = gap_free_lengths(loops)
+    if lengths is None:
+        loops = repair_gaps(loops)[0]
+        lengths = loop_lengths(loops)
+    return align_op(loops, lengths)[0] if align else loops

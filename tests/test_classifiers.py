@@ -125,15 +125,20 @@ def test_stiction_size_tracks_simulated_band():
 
 
 @pytest.mark.parametrize("clf", [AreaRatioClassifier(), ShapeLibraryClassifier()])
-def test_bad_loops_get_zero_with_reason_in_a_batch(clf):
+def test_bad_loops_get_zero_with_reason_in_a_batch_and_predict_says_so(clf):
     X, y = make_loops(4, n_samples=1500, world="classic", stiction_fraction=1.0, random_state=3)
     bad = X.copy()
-    bad[0, 100:140, :] = np.nan  # gap
+    bad[0, 100:140, :] = np.nan  # a gap: repaired as a scan repairs it, not a reason
     bad[1, :, 0] = 5.0  # constant PV
     bad[2, 15:, :] = np.nan  # too short: padding after 15 samples
-    report = clf.fit(X, y).diagnose(bad)
-    assert report.loc[:2, "prediction"].eq(0).all()
-    assert report.loc[:2, "reason"].tolist() == ["nan_gap", "constant", "too_short"]
+    clf.fit(X, y)
+    report = clf.diagnose(bad)
+    assert report.loc[1:2, "prediction"].eq(0).all()
+    assert report.loc[1:2, "reason"].tolist() == ["constant", "too_short"]
+    assert report.loc[0, "reason"] == clf.diagnose(X[:1]).loc[0, "reason"]
+    assert report.loc[0, "prediction"] == clf.diagnose(X[:1]).loc[0, "prediction"]
+    with pytest.warns(UserWarning, match=r"2 of 4 loops cannot be judged \(constant: 1, too_sh"):
+        assert clf.predict(bad)[1:3].tolist() == [0, 0]
 
 
 def test_shape_library_without_op_says_missing_op():

@@ -685,3 +685,19 @@ def test_the_default_model_is_not_trained_on_sticky_loops_whose_slips_hide_in_th
     Xct, yct = learned_module._training_set(2, 20, 400, "classic")
     np.testing.assert_array_equal(Xct, Xc)
     np.testing.assert_array_equal(yct, yc)
+
+
+def test_fit_repairs_gaps_as_predict_does_and_says_which_loops_it_leaves_out(data):
+    # before, a training loop with one missing sample was dropped without a word
+    X, labels = data
+    clf = LearnedStictionClassifier(max_iter=5, cv=2, random_state=0)
+    clean = clf.fit(X, labels).loop_features(X)
+    gappy = X.copy()
+    gappy[:, 200, :] = np.nan  # one lost row in every loop: bridged, as a scan bridges it
+    gappy[0, :, 0] = 1.0  # a constant PV cannot be learned from
+    with pytest.warns(UserWarning, match=r"1 of 30 loops cannot be judged \(constant: 1\); fit"):
+        clf.fit(gappy, labels)
+    rows = clf.loop_features(gappy).iloc[1:]
+    assert np.isfinite(rows.to_numpy()).mean() == pytest.approx(
+        np.isfinite(clean.iloc[1:].to_numpy()).mean()
+    )

@@ -102,13 +102,14 @@ def test_the_given_area_ratio_transformer_is_used(known):
 def test_bad_loops_get_their_status_and_no_ratio(known):
     X, _ = known
     bad = X[:3].copy()
-    bad[0, 500:540] = np.nan  # a gap in a sticky loop (R = 3)
+    bad[0, 500:540] = np.nan  # a gap in a sticky loop (R = 3): bridged, as a scan does
     bad[1, :, 0] = 4.0  # constant PV
     bad[2, 15:] = np.nan  # too short
     report = AreaRatioClassifier().fit(X).diagnose(bad)
-    assert report["reason"].tolist() == ["nan_gap", "constant", "too_short"]
-    assert report["prediction"].eq(0).all()
-    assert report["area_ratio"].isna().all() and report["score"].eq(-1.5).all()
+    assert report["reason"].tolist() == ["ok", "constant", "too_short"]
+    assert report["prediction"].tolist() == [1, 0, 0]
+    assert report.loc[0, "area_ratio"] == pytest.approx(3.0, rel=0.1)
+    assert report.loc[1:, "area_ratio"].isna().all() and report.loc[1:, "score"].eq(-1.5).all()
 
 
 # ---- what the base class promises every subclass ----------------------------------------
@@ -129,12 +130,13 @@ def test_bad_loops_are_zero_whatever_the_subclass_says(known):
     X, _ = known
     bad = X[:4].copy()
     bad[1, :, 1] = np.nan  # no OP, which this rule requires
-    bad[2, 100:130] = np.nan
+    bad[2, 15:] = np.nan  # too short
     clf = AlwaysSticky().fit(X)
     report = clf.diagnose(bad)
     assert report["prediction"].tolist() == [1, 0, 0, 1]
-    assert report["reason"].tolist() == ["ok", "missing_op", "nan_gap", "ok"]
-    pred = clf.predict(bad)
+    assert report["reason"].tolist() == ["ok", "missing_op", "too_short", "ok"]
+    with pytest.warns(UserWarning, match=r"missing_op: 1, too_short: 1\); predict gives"):
+        pred = clf.predict(bad)
     assert pred.dtype.kind == "i" and pred.tolist() == [1, 0, 0, 1]
 
 

@@ -100,7 +100,14 @@ def test_one_pass_scan_equals_the_classifiers_run_one_by_one(small_learned, no_g
     got = got.drop(columns="loop_type")
     assert set(got["verdict"]) == {"stiction", "no_stiction", "no_verdict"}
     assert (got["n_cycles"] > 0).sum() >= 4 and got["area_ratio"].notna().sum() >= 4
-    pd.testing.assert_frame_equal(got, expected, check_dtype=False, rtol=1e-12)
+    # gaps (loop 2's, and loop 8's PV that runs on past its OP): this scan (max_gap=None)
+    # leaves them unjudged, while a classifier on its own repairs them as scan_files would
+    gap = got["status"].eq("nan_gap").to_numpy()
+    assert np.flatnonzero(gap).tolist() == [2, 8] and got["verdict"][gap].eq("no_verdict").all()
+    assert got.loc[gap, ["area_ratio_stiction", "shape_stiction"]].eq(0).all().all()
+    pd.testing.assert_frame_equal(
+        got[~gap], expected[~gap], check_dtype=False, rtol=1e-12
+    )
 
 
 def test_learned_model_is_asked_through_predict_proba_when_it_is_not_a_pipeline(no_gate):

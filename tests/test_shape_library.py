@@ -214,12 +214,12 @@ def test_boundary_parameters_are_accepted(loops):
 def test_loops_without_a_verdict_carry_no_evidence():
     rng = np.random.default_rng(0)
     X = np.stack([make_loop("triangular", "triangular", rng) for _ in range(4)])
-    X[1, 300:340] = np.nan  # gap inside the record
+    X[1, 15:] = np.nan  # too short: 15 samples
     X[2, :, 1] = 40.0  # OP stuck
     X[3] = np.stack([20 + rng.standard_normal(X.shape[1]), 50 + rng.standard_normal(X.shape[1]),
                      np.full(X.shape[1], 20.0)], axis=-1)  # fmt: skip
     report = ShapeLibraryClassifier().fit(X).diagnose(X)
-    assert report["reason"].tolist()[:2] == ["ok", "nan_gap"]
+    assert report["reason"].tolist()[:2] == ["ok", "too_short"]
     assert "constant" in report.loc[2, "reason"] and report.loc[3, "reason"] == "not_oscillating"
     assert report.loc[3, "loop_type"] == "unknown"
     evidence = report.loc[1:, ["prediction", "score", "n_cycles", "n_sticky_cycles"]]

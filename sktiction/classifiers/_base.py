@@ -2,15 +2,52 @@
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
+import pandas as pd
 from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, column_or_1d
 
-from .._validation import loop_status, validate_loops
+from .._cleaning import as_judged
+from .._validation import (
+    STATUS_CONSTANT,
+    STATUS_EMPTY,
+    STATUS_MISSING_OP,
+    STATUS_NAN_GAP,
+    STATUS_OK,
+    STATUS_TOO_SHORT,
+    loop_status,
+    validate_loops,
+)
 from ..features._loops import analyse_loops
 
 #: Why a loop got no stiction verdict; ``"ok"`` when it was analysed.
 REASON_NOT_OSCILLATING = "not_oscillating"
+_NO_VERDICT = "predict gives them the negative class, predict_proba NaN"
+#: Reasons that are the input's fault, not a rule's answer ("not oscillating" is the
+#: rules' answer "no stiction").
+INPUT_PROBLEMS = (
+    STATUS_EMPTY, STATUS_TOO_SHORT, STATUS_NAN_GAP, STATUS_CONSTANT, STATUS_MISSING_OP,
+)
+
+
+def said_unjudged(report, consequence=_NO_VERDICT, *, problems=None):
+    """``report`` (a ``diagnose`` table, or its ``reason`` column), with a warning that
+    counts the loops by reason when some were not judged: ``predict`` gives them the
+    negative class, ``fit`` leaves them out, which a score or a training set would
+    otherwise count or lose without a word. ``problems`` limits the warning to those
+    reasons (``None``: every reason but ``ok``)."""
+    reason = pd.Series(report["reason"] if isinstance(report, pd.DataFrame) else report)
+    reasons = reason[reason.isin(problems) if problems else reason != STATUS_OK]
+    if len(reasons):
+        counts = ", ".join(f"{r}: {c}" for r, c in reasons.value_counts().items())
+        warnings.warn(
+            f"{len(reasons)} of {len(reason)} loops cannot be judged ({counts}); "
+            f"{consequence}. diagnose(X) says why per loop.",
+            UserWarning, stacklevel=3,
+        )
+    return report
 
 
 class LoopClassifierMixin:
@@ -66,11 +103,17 @@ class LoopClassifierMixin:
         return tags
 
     def _checked(self, X):
+        """Loops as a scan reads them: gaps repaired, OP in step with PV (as_judged)."""
         check_is_fitted(self, "classes_")
-        return validate_loops(self, X, reset=False)
+        return as_judged(validate_loops(self, X, reset=False))
 
     def diagnose(self, X):
         """Per-loop verdict with the evidence behind it.
+
+        Each loop is read as the learned model and a file scan read it: short NaN gaps
+        are bridged, past a long one the longest stretch is kept, and an OP recorded a
+        row out of step with PV is moved back in line
+        (:func:`~sktiction._cleaning.as_judged`).
 
         Parameters
         ----------
@@ -130,4 +173,5 @@ class LoopClassifierMixin:
         y_pred : ndarray of shape (n_loops,)
             Predicted labels.
         """
-        return self.diagnose(X)["prediction"].to_numpy(dtype=int)
+        report = said_unjudged(self.diagnose(X), "predict gives them 0", problems=INPUT_PROBLEMS)
+        return report["prediction"].to_numpy(dtype=int)

@@ -53,19 +53,18 @@ from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, column_or_1d
 from threadpoolctl import threadpool_limits
 
-from .._cleaning import align_op
+from .._cleaning import as_judged
 from .._validation import (
     OP,
     PV,
     SP,
     STATUS_OK,
-    gap_free_lengths,
     loop_lengths,
     loop_status,
-    repair_gaps,
     validate_loops,
 )
 from . import _persistence
+from ._base import said_unjudged
 
 #: Reasons :meth:`LearnedStictionClassifier.diagnose` gives for no verdict, besides the
 #: :func:`~sktiction._validation.loop_status` codes and ``out_of_domain:<feature>``.
@@ -167,21 +166,6 @@ def _raw_rows(loops, analyses, status):
 
 def _raw_names():
     return list(_fitted_loop_features().get_feature_names_out()) + list(DOMAIN_STATISTICS)
-
-
-def _as_judged(loops):
-    """Loops as a verdict reads them, as a file scan does: NaN gaps inside a record
-    bridged or, past a long one, the longest stretch kept
-    (:func:`~sktiction._validation.repair_gaps`; one lost sample had cost a loop its
-    verdict), then each OP moved in line with its PV (:func:`~sktiction._cleaning.align_op`;
-    OP a row early had made the coupling test and the valve fits misread 15-27 % of
-    loops). Training loops are read as given: simulated ones are whole and in step by
-    construction, and the search would move 10 of the default model's 1,500 for nothing."""
-    lengths = gap_free_lengths(loops)
-    if lengths is None:
-        loops = repair_gaps(loops)[0]
-        lengths = loop_lengths(loops)
-    return align_op(loops, lengths)[0]
 
 
 def _robust_spread(x):
@@ -534,7 +518,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             ``pv_op_coupling_white`` and ``frozen_share``.
         """
         check_is_fitted(self, "model_")
-        loops = _as_judged(validate_loops(self, X, reset=False))
+        loops = as_judged(validate_loops(self, X, reset=False))
         return self._features(normalise_loops(loops))
 
     def _features(self, loops):
@@ -588,7 +572,10 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             Fitted classifier.
         """
         self._validate_params()
-        loops = validate_loops(self, X, reset=True)  # as given: see _as_judged
+        # gaps are repaired as at prediction; OP is not moved: simulated training loops
+        # are in step by construction, and the search would move 10 of the default
+        # model's 1,500 for nothing
+        loops = as_judged(validate_loops(self, X, reset=True), align=False)
         y = column_or_1d(y, warn=True)
         check_classification_targets(y)
         if len(y) != len(loops):
@@ -600,12 +587,14 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             raise ValueError(f"y must hold exactly two classes; got {self.classes_.tolist()}.")
         self.n_channels_in_ = int(np.shape(X)[2]) if np.ndim(X) == 3 else 1
         feats = self._features(normalise_loops(loops))
-        usable = self._hard_reasons(loops, feats) == STATUS_OK
+        reasons = self._hard_reasons(loops, feats)
+        usable = reasons == STATUS_OK
         if usable.sum() < 10 or len(np.unique(y_idx[usable])) < 2:
             raise ValueError(
                 f"only {int(usable.sum())} of {len(loops)} training loops can be analysed "
                 "(long enough, with OP, PV and OP related); need at least 10 of both classes."
             )
+        said_unjudged(reasons, "fit leaves them out of training")
         model_cols = [c for c in feats.columns if c not in DOMAIN_STATISTICS]
         F = feats.loc[usable, model_cols].to_numpy()
         self.feature_names_ = np.asarray(model_cols, dtype=object)
@@ -680,7 +669,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
 
         Each loop is read as a file scan reads it: short NaN gaps inside the record are
         bridged and, past a long one, the longest stretch is kept; an OP recorded a row
-        out of step with PV is moved back in line (see :func:`_as_judged`).
+        out of step with PV is moved back in line (:func:`~sktiction._cleaning.as_judged`).
 
         Parameters
         ----------
@@ -697,7 +686,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             ``out_of_domain:<feature>`` (the feature furthest outside its training range).
         """
         check_is_fitted(self, "model_")
-        loops = _as_judged(validate_loops(self, X, reset=False))
+        loops = as_judged(validate_loops(self, X, reset=False))
         return self._diagnose_features(loops, self._features(normalise_loops(loops)))
 
     def diagnose_analysed(self, loops, analyses, status=None):
@@ -767,7 +756,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             Columns follow ``classes_``; NaN where :meth:`diagnose` says
             ``in_domain`` is False.
         """
-        p = _said(self.diagnose(X))["probability"].to_numpy()
+        p = said_unjudged(self.diagnose(X))["probability"].to_numpy()
         return np.column_stack([1.0 - p, p])
 
     def predict(self, X):
@@ -784,22 +773,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         -------
         y_pred : ndarray of shape (n_loops,)
         """
-        return _said(self.diagnose(X))["prediction"].to_numpy()
-
-
-def _said(report):
-    """``report``, with a warning when some loops got no verdict: ``predict`` gives them
-    the negative class and ``predict_proba`` NaN, which a score would otherwise count
-    without a word."""
-    reasons = report["reason"][report["reason"] != STATUS_OK]
-    if len(reasons):
-        counts = ", ".join(f"{r}: {c}" for r, c in reasons.value_counts().items())
-        warnings.warn(
-            f"{len(reasons)} of {len(report)} loops got no verdict ({counts}); predict gives "
-            "them the negative class, predict_proba NaN. diagnose(X) says why per loop.",
-            UserWarning, stacklevel=3,
-        )
-    return report
+        return said_unjudged(self.diagnose(X))["prediction"].to_numpy()
 
 
 def make_learned_classifier(random_state=None, **params):
@@ -836,6 +810,7 @@ def make_learned_classifier(random_state=None, **params):
 # them makes a cached model stale.
 _TRAINING_SOURCES = (
     "_validation.py",
+    "_cleaning.py",
     "classifiers/learned.py",
     "classifiers/_persistence.py",
     "cycles",

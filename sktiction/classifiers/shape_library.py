@@ -9,7 +9,7 @@ from sklearn.base import BaseEstimator, ClassifierMixin, clone
 from .._validation import OP
 from ..features import TemplateDistances
 from ..features._loops import analyse_loops
-from ._base import REASON_NOT_OSCILLATING, LoopClassifierMixin
+from ._base import INPUT_PROBLEMS, REASON_NOT_OSCILLATING, LoopClassifierMixin, said_unjudged
 
 #: (OP shape, PV shape) pairs that mean stiction, per loop type (seed 001 Table 1).
 #: Trapezoidal PV counts for flow loops: the paper's own industrial flow loops (its
@@ -215,7 +215,10 @@ class ShapeLibraryClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator
         proba : ndarray of shape (n_loops, 2)
             Columns: no stiction, stiction.
         """
-        conf = self.diagnose(X)["score"].to_numpy(dtype=float)
+        report = said_unjudged(
+            self.diagnose(X), "predict_proba gives them 0", problems=INPUT_PROBLEMS
+        )
+        conf = report["score"].to_numpy(dtype=float)
         return np.column_stack([1.0 - conf, conf])
 
     def stiction_size(self, X):
