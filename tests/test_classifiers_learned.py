@@ -425,7 +425,8 @@ def test_the_domain_is_the_training_range_widened(data, model):
 def test_verdicts_follow_the_probability_inside_the_domain(data, model):
     X, labels = data
     report = model.diagnose(X)
-    assert report.columns.tolist() == ["prediction", "probability", "in_domain", "reason"]
+    assert report.columns.tolist() == ["prediction", "probability", "in_domain", "reason",
+                                       "rows_per_sample"]
     inside = report["in_domain"].to_numpy()
     p = report["probability"].to_numpy()
     assert inside.all()  # its own training loops
@@ -701,3 +702,29 @@ def test_fit_repairs_gaps_as_predict_does_and_says_which_loops_it_leaves_out(dat
     assert np.isfinite(rows.to_numpy()).mean() == pytest.approx(
         np.isfinite(clean.iloc[1:].to_numpy()).mean()
     )
+
+
+def test_loops_recorded_finer_than_the_training_loops_are_read_coarser(model, monkeypatch):
+    # the same draws with cycles 10 times as many samples long (as if recorded 10 times
+    # finer): by their period in samples they lay outside the model's domain
+    kw = {"world": "classic", "random_state": 4}
+    X, _ = make_loops(8, n_samples=600, **kw)
+    fine_X, _ = make_loops(8, n_samples=6000, period_range=(200.0, 2000.0), **kw)
+    as_trained, fine = model.diagnose(X), model.diagnose(fine_X)
+    assert as_trained["rows_per_sample"].eq(1).all()
+    with monkeypatch.context() as m:
+        m.setattr(learned_module, "_MIN_COARSE_ROWS", 10**12)  # no loop long enough: step off
+        refused = model.diagnose(fine_X)
+    slow = refused["reason"].eq("out_of_domain:templates__period").to_numpy()
+    assert slow.sum() >= 3
+    np.testing.assert_array_equal(fine["rows_per_sample"].to_numpy() > 1, slow)
+    assert not fine["reason"].eq("out_of_domain:templates__period").any()
+    judged = slow & fine["in_domain"].to_numpy()  # a 30-loop model's ranges are narrow
+    assert judged.sum() >= slow.sum() - 1
+    agree = fine.loc[judged, "prediction"] == as_trained.loc[judged, "prediction"]
+    assert agree.sum() >= judged.sum() - 1
+    # a scan's shared analyses reach the same reading
+    loops = check_loops(fine_X)
+    shared = model.diagnose_analysed(loops, analyse_loops(loops))
+    pd.testing.assert_series_equal(shared["rows_per_sample"], fine["rows_per_sample"])
+    pd.testing.assert_series_equal(shared["prediction"], fine["prediction"])

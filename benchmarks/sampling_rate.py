@@ -1,0 +1,95 @@
+"""The default model on loops recorded finer than the loops it learned from.
+
+A simulator or a historian may record a loop at any rate; ten times finer is the same loop.
+The model's features include the period of the cycles in samples, and past the training
+range a loop is outside the model's domain. The model now reads such a loop in block means
+that bring its period to the training periods' upper quartile
+(``LearnedStictionClassifier._coarsening``, column ``rows_per_sample`` of ``diagnose``).
+
+Judges, each with that step off and on (the same model, nothing retrained):
+
+* the default world of ``make_loops`` (seed 12345, 2,000 samples), and the same draws
+  simulated ``k`` times finer (``period_range`` and ``n_samples`` times ``k``: the same
+  loops, cycles ``k`` times as many samples long, noise drawn per sample);
+* the second simulator (``independent_world.py``, seed 2026, 3,000 s), and its records
+  interpolated ``k`` times finer with fresh white noise of 0.3 times the standard deviation
+  of each record's increments over the square root of 2 (a proxy: its own code records
+  at 1 s at the finest).
+
+Printed per judge: balanced accuracy ("no verdict" counts as "no stiction"), the share of
+loops the model judges and the share read coarser.
+
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/sampling_rate.py [n_loops]`` (default 300)
+"""
+
+from __future__ import annotations
+
+import sys
+import warnings
+
+import numpy as np
+from independent_world import make_independent_loops
+from sklearn.metrics import balanced_accuracy_score
+
+from sktiction import pretrained_classifier
+from sktiction._validation import check_loops, loop_lengths
+from sktiction.classifiers import learned
+from sktiction.datasets import make_loops
+
+N_LOOPS = int(sys.argv[1]) if len(sys.argv) > 1 else 300
+FINER = (3, 10)
+
+
+def interpolated(X, k, rng):
+    """Each record ``k`` times finer: straight lines between samples, plus white noise on PV
+    and OP of 0.3 times the record's increment standard deviation over sqrt(2)."""
+    X = check_loops(X)
+    out = np.full((len(X), (X.shape[1] - 1) * k + 1, 3), np.nan)
+    for i, n in enumerate(loop_lengths(X)):
+        t, fine = np.arange(n), np.arange((n - 1) * k + 1) / k
+        for c in range(3):
+            x = X[i, :n, c]
+            if np.isnan(x).all():
+                continue
+            y = np.interp(fine, t, x)
+            if c < 2:
+                y = y + rng.normal(0.0, 0.3 * np.std(np.diff(x)) / np.sqrt(2), y.size)
+            out[i, : y.size, c] = y
+    return out
+
+
+def judge(model, X, y):
+    d = model.diagnose(X)
+    ba = balanced_accuracy_score(y, d["prediction"].to_numpy(dtype=int))
+    return ba, d["in_domain"].mean(), (d["rows_per_sample"] > 1).mean()
+
+
+def main():
+    warnings.simplefilter("ignore", UserWarning)
+    model = pretrained_classifier()
+    rng = np.random.default_rng(0)
+    judges = [("default world", *make_loops(N_LOOPS, random_state=12345))]
+    for k in FINER:
+        X, y = make_loops(N_LOOPS, n_samples=2000 * k, period_range=(8.0 * k, 300.0 * k),
+                          random_state=12345)  # fmt: skip
+        judges.append((f"default world, {k}x finer", X, y))
+    Xi, yi, _ = make_independent_loops(N_LOOPS, 3000, random_state=2026)
+    judges.append(("second simulator", Xi, yi))
+    for k in FINER:
+        judges.append((f"second simulator, {k}x finer", interpolated(Xi, k, rng), yi))
+    print(f"trained_period_ = {model.trained_period_:.1f} samples; balanced accuracy "
+          "(judged, read coarser) without -> with reading coarser")  # fmt: skip
+    keep = learned._MIN_COARSE_ROWS
+    for name, X, y in judges:
+        learned._MIN_COARSE_ROWS = 10**12  # no loop is long enough to coarsen: step off
+        try:
+            off = judge(model, X, y)
+        finally:
+            learned._MIN_COARSE_ROWS = keep
+        on = judge(model, X, y)
+        print(f"{name:32s} {off[0]:.3f} ({off[1]:.2f}) -> {on[0]:.3f} ({on[1]:.2f}, {on[2]:.2f})",
+              flush=True)  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
