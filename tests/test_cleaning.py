@@ -6,16 +6,18 @@ import numpy as np
 import pytest
 
 from sktiction._cleaning import (
+    GAP_COLUMNS,
     _paired,
     align_op,
     hold_step,
     placeholder_mask,
     remove_spikes,
+    repaired,
     spike_mask,
 )
 from sktiction._validation import check_loops, loop_lengths
 from sktiction.datasets import make_loops
-from sktiction.reports.scan import GAP_COLUMNS, repaired, scan_loops
+from sktiction.reports.scan import scan_loops
 
 
 def _sine(n=600, period=50.0, noise=0.05, seed=0):

@@ -585,10 +585,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             Fitted classifier.
         """
         self._validate_params()
-        # gaps are repaired as at prediction; OP is not moved: simulated training loops
-        # are in step by construction, and the search would move 10 of the default
-        # model's 1,500 for nothing
-        loops = as_judged(validate_loops(self, X, reset=True), align=False)
+        loops = as_judged(validate_loops(self, X, reset=True), training=True)
         y = column_or_1d(y, warn=True)
         check_classification_targets(y)
         if len(y) != len(loops):

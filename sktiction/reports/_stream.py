@@ -213,7 +213,7 @@ def scan_files(
     max_gap : "auto", int or None, default="auto"
         Longest NaN gap bridged (:func:`~sktiction._validation.repair_gaps`), after a
         regular hold is read one row in k, spikes are replaced and placeholders (-9999
-        for a stretch) read as gaps (:func:`~sktiction.reports.scan.repaired`); ``None``
+        for a stretch) read as gaps (:func:`~sktiction._cleaning.repaired`); ``None``
         repairs nothing (loops with
         gaps then get ``status = "nan_gap"``).
 

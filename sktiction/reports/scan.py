@@ -18,11 +18,10 @@ import pandas as pd
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.pipeline import FeatureUnion, Pipeline
 
-from .._cleaning import align_op, hold_step, remove_placeholders, remove_spikes
+from .._cleaning import GAP_COLUMNS, align_op, repaired
 from .._validation import (
     STATUS_OK,
     check_loops,
-    gap_free_lengths,
     loop_lengths,
     loop_status,
     repair_gaps,
@@ -49,14 +48,6 @@ REPORT_COLUMNS = [
     "op_shift",
     "reason",
 ]
-#: What input repair (:func:`repaired`) reports per loop: gap repair's
-#: (:func:`~sktiction._validation.repair_gaps`; ``kept_start``, ``kept_stop`` index the
-#: input's rows), spike samples replaced, rows per stored value (a regular hold undone)
-#: and placeholder samples read as gaps.
-GAP_COLUMNS = (
-    "n_bridged", "n_gaps_split", "kept_start", "kept_stop", "n_spikes", "rows_per_value",
-    "n_placeholders",
-)  # fmt: skip
 #: Probability from which the learned classifier's verdict is "stiction".
 STICTION_THRESHOLD = 0.5
 VERDICT_STICTION, VERDICT_HEALTHY, NO_VERDICT = "stiction", "no_stiction", "no_verdict"
@@ -420,67 +411,6 @@ def _scan_unit(loops, loop_types, ts, learned, rules, gate, max_gap=None):
         ts = np.asarray(ts, dtype=float) * np.nan_to_num(gaps[:, 5], nan=1.0)
     report = _scan_safely(loops, loop_types, learned, rules, ts, gate)
     return pd.concat([pd.DataFrame(gaps, columns=list(GAP_COLUMNS)), report], axis=1)
-
-
-def _undo_artefacts(loops, idx, lengths):
-    """Undo regular holds, remove spikes and read placeholders as gaps
-    (:mod:`sktiction._cleaning`) in loops ``idx`` (of ``lengths`` samples), in place.
-    Returns rows per value, the hold grid's phase, spike and placeholder samples per loop.
-    Spikes go first: a lone -9999 is a spike, replaced by a line, not a gap."""
-    out = np.zeros((len(idx), 4), dtype=int)
-    for j, (i, n) in enumerate(zip(idx, lengths)):
-        step, phase = hold_step(loops[i], n)
-        if step > 1:  # each value written ``step`` times: read the rows as stored
-            rows = loops[i, phase:n:step].copy()
-            loops[i] = np.nan
-            loops[i, : len(rows)] = rows
-            n = len(rows)
-        spikes = remove_spikes(loops[i], n)
-        out[j] = step, phase, spikes, remove_placeholders(loops[i], n)
-    return out
-
-
-def repaired(loops, max_gap, usable=None):
-    """Loops as the scan reads them, and what was done, one row of :data:`GAP_COLUMNS` per
-    loop (NaN where nothing was looked at). Both scans repair this way:
-
-    1. a regular hold (every value on ``k`` rows: an export grid finer than the stored
-       data) is read every ``k``-th row (the sample time is then ``k`` times longer);
-    2. spikes (1-3 samples far from both neighbours) are replaced by a straight line;
-    3. placeholders for missing data written as numbers (-9999 for a stretch) become gaps;
-    4. short gaps are bridged and the longest stretch kept
-       (:func:`~sktiction._validation.repair_gaps`).
-
-    Loops that hold inf (they get not_finite) or are not ``usable`` are left as they are;
-    gap-free loops skip ``repair_gaps`` with the answer it would give.
-    """
-    loops = np.array(loops, dtype=float)  # a copy: spikes are replaced in place
-    n, m, k = loops.shape
-    if k < 3:
-        loops = np.concatenate([loops, np.full((n, m, 3 - k), np.nan)], axis=2)
-    gaps = np.full((n, len(GAP_COLUMNS)), np.nan)
-    ok = ~np.isinf(loops).any(axis=(1, 2))
-    idx = np.flatnonzero(ok if usable is None else ok & usable)
-    if not idx.size:
-        return loops, gaps
-    lengths_in = loop_lengths(loops[idx])
-    step, phase, spikes, placeholders = _undo_artefacts(loops, idx, lengths_in).T
-    lengths = gap_free_lengths(loops[idx])
-    if lengths is not None:  # most records: what repair_gaps would say, without its work
-        info = {"n_bridged": 0, "n_gaps_split": 0, "kept_start": 0, "kept_stop": lengths}
-    else:
-        fixed, info = repair_gaps(loops[idx], max_gap=max_gap)
-        loops[idx] = fixed[:, :m]
-    for j, col in enumerate(GAP_COLUMNS[:4]):
-        gaps[idx, j] = np.asarray(info[col], dtype=float)
-    # the kept stretch in the input's rows, where each row read stands for its block of
-    # ``step`` rows (the rows before the first whole block hold the value before it)
-    start, stop = gaps[idx, 2], gaps[idx, 3]
-    gaps[idx, 2] = np.where(start > 0, phase + step * start, 0)
-    gaps[idx, 3] = np.where(stop > start, np.minimum(phase + step * stop, lengths_in),
-                            gaps[idx, 2])
-    gaps[idx, 4], gaps[idx, 5], gaps[idx, 6] = spikes, step, placeholders
-    return loops, gaps
 
 
 def scan_loops(
