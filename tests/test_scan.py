@@ -8,6 +8,7 @@ from sklearn.ensemble import HistGradientBoostingClassifier
 from sklearn.pipeline import FeatureUnion, Pipeline
 
 from sktiction import AreaRatio, LoopDescriptors, StictionModelFit, TemplateDistances
+from sktiction._cleaning import GAP_COLUMNS
 from sktiction.classifiers import AreaRatioClassifier, ShapeLibraryClassifier
 from sktiction.datasets import make_loops
 from sktiction.features.hysteresis import valve_band
@@ -39,11 +40,12 @@ def no_gate(monkeypatch):
 
 def reference_scan(X, loop_types, learned):
     """The scan as it was before the shared pass: each classifier on its own (reference)."""
-    from sktiction._cleaning import align_op
+    from sktiction._cleaning import align_op, repaired
     from sktiction._validation import check_loops, loop_lengths, loop_status
 
-    # first OP in line with PV, as the scan does (a learned pipeline need not do it)
-    loops, shifts = align_op(check_loops(X), loop_lengths(check_loops(X)))
+    # first repaired and OP in line with PV, as the scan does (a learned pipeline need not)
+    loops = repaired(check_loops(X), "auto")[0]
+    loops, shifts = align_op(loops, loop_lengths(loops))
     ar = AreaRatioClassifier().fit(loops).diagnose(loops)
     parts = []
     for lt in pd.unique(loop_types):
@@ -97,17 +99,11 @@ def test_one_pass_scan_equals_the_classifiers_run_one_by_one(small_learned, no_g
     X, types = mixed_loops()
     expected = reference_scan(X, types, small_learned)
     got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=small_learned, chunk_size=7)
-    got = got.drop(columns="loop_type")
+    assert got.loc[2, "n_bridged"] + got.loc[2, "n_gaps_split"] > 0  # its gap repaired
+    got = got.drop(columns=["loop_type", *GAP_COLUMNS])
     assert set(got["verdict"]) == {"stiction", "no_stiction", "no_verdict"}
     assert (got["n_cycles"] > 0).sum() >= 4 and got["area_ratio"].notna().sum() >= 4
-    # gaps (loop 2's, and loop 8's PV that runs on past its OP): this scan (max_gap=None)
-    # leaves them unjudged, while a classifier on its own repairs them as scan_files would
-    gap = got["status"].eq("nan_gap").to_numpy()
-    assert np.flatnonzero(gap).tolist() == [2, 8] and got["verdict"][gap].eq("no_verdict").all()
-    assert got.loc[gap, ["area_ratio_stiction", "shape_stiction"]].eq(0).all().all()
-    pd.testing.assert_frame_equal(
-        got[~gap], expected[~gap], check_dtype=False, rtol=1e-12
-    )
+    pd.testing.assert_frame_equal(got, expected, check_dtype=False, rtol=1e-12)
 
 
 def test_learned_model_is_asked_through_predict_proba_when_it_is_not_a_pipeline(no_gate):
@@ -213,7 +209,7 @@ def test_scan_files_equals_scan_loops_on_the_same_loops(site, small_learned, no_
         X[i, : d.X.shape[1]] = d.X[0]
     meta = pd.concat([d.meta for d in datas], ignore_index=True)
     assert meta["loop_type"].eq("flow").all()  # from the tags: the flow row of the library
-    expected = scan_loops(X, meta, classifier=small_learned)
+    expected = scan_loops(X, meta, classifier=small_learned, max_gap=None)
     got = report.loc[~unreadable, expected.columns].reset_index(drop=True)
     assert got.loc[3, "status"] == "nan_gap"  # no repair asked for
     pd.testing.assert_frame_equal(got, expected, check_dtype=False, rtol=1e-12)
@@ -313,23 +309,23 @@ def test_a_loop_with_infinite_values_gets_its_own_status(small_learned, no_gate)
     pd.testing.assert_frame_equal(report.loc[others], clean.loc[others], check_dtype=False)
 
 
-def test_scan_loops_bridges_gaps_as_scan_files_does_when_asked(small_learned, no_gate):
+def test_scan_loops_bridges_gaps_as_scan_files_does_unless_told_not_to(small_learned, no_gate):
     from sktiction._validation import repair_gaps
 
     X, _ = make_loops(4, n_samples=1500, world="classic", random_state=3)  # full lengths
     X[0, 700:702] = np.nan  # short: bridged
     X[1, 400:700] = np.nan  # long: the longest stretch is kept
     X[2, 10, 1] = np.inf  # left alone: not_finite
-    plain = scan_loops(X, classifier=small_learned)
+    plain = scan_loops(X, classifier=small_learned, max_gap=None)
     assert plain["status"].tolist()[:3] == ["nan_gap", "nan_gap", "not_finite"]
-    report = scan_loops(X, classifier=small_learned, max_gap="auto", chunk_size=3)
+    report = scan_loops(X, classifier=small_learned, chunk_size=3)  # max_gap="auto"
     assert list(report.columns[:7]) == ["n_bridged", "n_gaps_split", "kept_start", "kept_stop",
                                         "n_spikes", "rows_per_value", "n_placeholders"]
     assert report["status"].tolist() == ["ok", "ok", "not_finite", "ok"]
     assert report.loc[0, "n_bridged"] == 1 and report.loc[1, "kept_start"] == 700
     assert np.isnan(report.loc[2, "n_bridged"])
     fixed, _ = repair_gaps(np.delete(X, 2, axis=0))
-    expected = scan_loops(fixed, classifier=small_learned)
+    expected = scan_loops(fixed, classifier=small_learned, max_gap=None)
     kept = report.drop(index=2).drop(columns=report.columns[:7]).reset_index(drop=True)
     pd.testing.assert_frame_equal(kept, expected, check_dtype=False)
     with pytest.raises(ValueError):
@@ -339,7 +335,7 @@ def test_scan_loops_bridges_gaps_as_scan_files_does_when_asked(small_learned, no
 def test_a_scan_that_leaves_gaps_says_how_to_bridge_them(small_learned, no_gate):
     X, types = mixed_loops()  # loop 2 has a gap of 40 rows
     with pytest.warns(UserWarning, match=r"of 20 loops have NaN gaps .* max_gap='auto'") as w:
-        report = scan_loops(X, classifier=small_learned)
+        report = scan_loops(X, classifier=small_learned, max_gap=None)
     gaps = report["status"].eq("nan_gap").sum()
     assert gaps >= 1 and str(w[0].message).startswith(f"{gaps} of 20 loops")
     assert report.loc[2, "status"] == "nan_gap"

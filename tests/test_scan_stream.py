@@ -104,7 +104,7 @@ def test_the_stream_gives_scan_loops_report_in_file_order(site):
         k += len(d.X)
     meta = pd.concat([d.meta for d in datas], ignore_index=True)
     keep = [0, 1, 2, 3, 5]  # without TIC5
-    expected = scan_loops(X[keep], meta.iloc[keep], classifier=Spread())
+    expected = scan_loops(X[keep], meta.iloc[keep], classifier=Spread(), max_gap=None)
     got = report.loc[~bad, expected.columns].reset_index(drop=True)
     pd.testing.assert_frame_equal(got, expected, check_dtype=False)
     assert got["loop_type"].tolist() == ["flow", "flow", "flow", "level", "pressure"]
@@ -120,7 +120,7 @@ def test_short_gaps_are_bridged_and_the_chunking_changes_nothing(site):
     assert gaps.iloc[[4, 6, 7]].isna().all().all()  # unreadable: nothing to repair
     data = read_loop_file(site / "FIC003.csv", ts=1.0)
     repaired, _ = repair_gaps(data.X)
-    alone = scan_loops(repaired, data.meta, classifier=Spread())
+    alone = scan_loops(repaired, data.meta, classifier=Spread(), max_gap=None)
     pd.testing.assert_frame_equal(
         one.loc[[2], alone.columns].reset_index(drop=True), alone, check_dtype=False
     )

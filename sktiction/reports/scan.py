@@ -415,7 +415,7 @@ def _scan_unit(loops, loop_types, ts, learned, rules, gate, max_gap=None):
 
 def scan_loops(
     X, meta=None, *, classifier=None, chunk_size=64, n_jobs=None, progress=False, client=None,
-    max_gap=None,
+    max_gap="auto",
 ):  # fmt: skip
     """Diagnose every loop of a batch; bad loops get a status, never an exception.
 
@@ -462,16 +462,16 @@ def scan_loops(
         Run the chunks on this dask cluster (``pip install "sktiction[dask]"``; the
         chunks are sent to the workers). For files, :func:`scan_files` lets the
         workers read their own. The report is the same as a local scan's.
-    max_gap : "auto", int or None, default=None
-        ``None`` repairs nothing: NaN gaps inside a record stay (the loop gets
-        ``nan_gap``). ``"auto"`` or a number of samples repairs as :func:`scan_files`
-        does (:func:`repaired`): a regular hold is read one row in k, spikes are
-        replaced, placeholders (-9999 for a stretch) read as gaps, short gaps bridged and
-        the longest stretch kept; the report then has ``n_bridged``, ``n_gaps_split``,
-        ``kept_start``, ``kept_stop`` (input rows), ``n_spikes``, ``rows_per_value`` and
-        ``n_placeholders``, and a ``ts`` column from ``meta`` is the
-        sample time of the rows read. E.g. for loops read with
-        :func:`~sktiction.datasets.read_loops`, whose missing values are gaps.
+    max_gap : "auto", int or None, default="auto"
+        ``"auto"`` or a number of samples repairs as :func:`scan_files` and every
+        classifier do (:func:`~sktiction._cleaning.repaired`): a regular hold is read one
+        row in k, spikes are replaced, placeholders (-9999 for a stretch) read as gaps,
+        short gaps bridged (up to ``max_gap`` samples; ``"auto"``: 1/16 of the loop's
+        period) and the longest stretch kept; the report then has ``n_bridged``,
+        ``n_gaps_split``, ``kept_start``, ``kept_stop`` (input rows), ``n_spikes``,
+        ``rows_per_value`` and ``n_placeholders``, and a ``ts`` column from ``meta`` is
+        the sample time of the rows read. ``None`` repairs nothing: NaN gaps inside a
+        record stay (the loop gets ``nan_gap``, with a warning).
 
     Returns
     -------
@@ -527,5 +527,5 @@ def scan_loops(
     if meta is not None and "ts" in meta and max_gap is not None:
         meta = meta.copy()  # a hold undone: the rows read are k times further apart
         step = report["rows_per_value"].fillna(1.0).to_numpy()
-        meta["ts"] = meta["ts"].to_numpy(dtype=float) * step
+        meta["ts"] = sampling_times(meta) * step  # unreadable times stay NaN
     return join_meta(meta, report)
