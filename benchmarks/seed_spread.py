@@ -40,6 +40,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from _measured_common import load_measured  # noqa: E402
 from independent_world import make_independent_loops  # noqa: E402
 
+from sktiction._cleaning import as_judged  # noqa: E402
 from sktiction._validation import check_loops  # noqa: E402
 from sktiction.classifiers import make_learned_classifier  # noqa: E402
 from sktiction.classifiers.learned import (  # noqa: E402
@@ -63,7 +64,7 @@ def _evaluation_sets(clf):
     sets["held-out default world"] = (Xd, yd, None)
     out = {}
     for name, (X, y, groups) in sets.items():
-        loops = check_loops(X)
+        loops = as_judged(check_loops(X))  # as diagnose reads them
         feats = clf._features(normalise_loops(loops))
         # the shortcut must give what a user gets from diagnose()
         shortcut = clf._diagnose_features(loops[:20], feats.iloc[:20].reset_index(drop=True))
