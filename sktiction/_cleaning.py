@@ -313,6 +313,12 @@ def op_shift(loop, n):
     return best if top >= _SHIFT_MIN_R2 and top > _SHIFT_MARGIN * max(now, 0.0) else 0
 
 
+def put_record(loops, i, rows):
+    """Loop ``i`` of ``loops`` becomes ``rows`` (at most as long), NaN-padded, in place."""
+    loops[i] = np.nan
+    loops[i, : len(rows)] = rows
+
+
 def align_op(loops, lengths):
     """``loops`` with each OP moved in line with its PV (:func:`op_shift`), and the shifts.
 
@@ -325,9 +331,7 @@ def align_op(loops, lengths):
     out = np.array(loops, dtype=float)
     for i in np.flatnonzero(shifts):
         n = int(lengths[i])
-        moved = _paired(loops[i], n, int(shifts[i]))
-        out[i] = np.nan
-        out[i, : len(moved)] = moved
+        put_record(out, i, _paired(loops[i], n, int(shifts[i])))
     return out, shifts
 
 
@@ -351,8 +355,7 @@ def _undo_artefacts(loops, idx, lengths):
         step, phase = hold_step(loops[i], n)
         if step > 1:  # each value written ``step`` times: read the rows as stored
             rows = loops[i, phase:n:step].copy()
-            loops[i] = np.nan
-            loops[i, : len(rows)] = rows
+            put_record(loops, i, rows)
             n = len(rows)
         spikes = remove_spikes(loops[i], n)
         out[j] = step, phase, spikes, remove_placeholders(loops[i], n)

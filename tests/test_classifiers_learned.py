@@ -694,17 +694,18 @@ def test_the_default_model_is_not_trained_on_sticky_loops_whose_slips_hide_in_th
 def test_fit_repairs_gaps_as_predict_does_and_says_which_loops_it_leaves_out(data):
     # before, a training loop with one missing sample was dropped without a word
     X, labels = data
-    clf = LearnedStictionClassifier(max_iter=5, cv=2, random_state=0)
-    clean = clf.fit(X, labels).loop_features(X)
-    gappy = X.copy()
+    clean = X.copy()
+    clean[0, :, 0] = 1.0  # a constant PV cannot be learned from
+    gappy = clean.copy()
     gappy[:, 200, :] = np.nan  # one lost row in every loop: bridged, as a scan bridges it
-    gappy[0, :, 0] = 1.0  # a constant PV cannot be learned from
-    with pytest.warns(UserWarning, match=r"1 of 30 loops cannot be judged \(constant: 1\); fit"):
-        clf.fit(gappy, labels)
-    rows = clf.loop_features(gappy).iloc[1:]
-    assert np.isfinite(rows.to_numpy()).mean() == pytest.approx(
-        np.isfinite(clean.iloc[1:].to_numpy()).mean()
-    )
+    fits = []
+    for loops in (clean, gappy):
+        clf = LearnedStictionClassifier(max_iter=5, cv=2, random_state=0)
+        with pytest.warns(UserWarning, match=r"1 of 30 loops cannot be judged \(constant: 1\); f"):
+            fits.append(clf.fit(loops, labels))
+    # the same 29 loops learned from: the training ranges agree to the bridged sample
+    np.testing.assert_allclose(fits[1].domain_low_, fits[0].domain_low_, rtol=0.05, atol=1e-3)
+    np.testing.assert_allclose(fits[1].domain_high_, fits[0].domain_high_, rtol=0.05, atol=1e-3)
 
 
 def test_loops_recorded_finer_than_the_training_loops_are_read_coarser(model, monkeypatch):
@@ -747,3 +748,15 @@ def test_glitches_are_read_as_a_scan_reads_them(data, model):
     assert np.abs(got["probability"] - clean["probability"]).max() < 0.05
     rule = AreaRatioClassifier().fit(X)
     assert (rule.predict(spiky) == rule.predict(X)).mean() >= 0.9
+
+
+def test_reading_coarser_keeps_the_rows_a_verdict_needs(model, monkeypatch):
+    # a min_samples above the 600 rows kept by default: a loop read coarser must not fall
+    # below it (a valid setting had turned such loops into too_short)
+    fine_X, _ = make_loops(8, n_samples=3600, world="classic", period_range=(200.0, 2000.0),
+                           random_state=4)  # fmt: skip
+    strict = copy.copy(model).set_params(min_samples=1000)
+    report = strict.diagnose(fine_X)
+    coarser = report["rows_per_sample"] > 1
+    assert coarser.any() and not report.loc[coarser, "reason"].eq("too_short").any()
+    assert (3600 // report["rows_per_sample"] >= 1000).all()

@@ -103,17 +103,19 @@ class LoopClassifierMixin:
         return tags
 
     def _checked(self, X):
-        """Loops as a scan reads them: gaps repaired, OP in step with PV (as_judged)."""
+        """Loops as a scan reads them (as_judged): holds, spikes, placeholders and gaps
+        repaired, OP in step with PV."""
         check_is_fitted(self, "classes_")
         return as_judged(validate_loops(self, X, reset=False))
 
     def diagnose(self, X):
         """Per-loop verdict with the evidence behind it.
 
-        Each loop is read as the learned model and a file scan read it: short NaN gaps
-        are bridged, past a long one the longest stretch is kept, and an OP recorded a
-        row out of step with PV is moved back in line
-        (:func:`~sktiction._cleaning.as_judged`).
+        Each loop is read as the learned model and a file scan read it
+        (:func:`~sktiction._cleaning.as_judged`): a regular hold read as stored, spikes
+        replaced, placeholders read as gaps, short NaN gaps bridged and, past a long one,
+        the longest stretch kept; an OP recorded a row out of step with PV is moved back
+        in line.
 
         Parameters
         ----------

@@ -55,7 +55,7 @@ from sklearn.utils.multiclass import check_classification_targets
 from sklearn.utils.validation import check_is_fitted, column_or_1d
 from threadpoolctl import threadpool_limits
 
-from .._cleaning import as_judged
+from .._cleaning import as_judged, put_record
 from .._validation import (
     OP,
     PV,
@@ -85,12 +85,12 @@ _LENGTH_COUNTS = ("area__n_half_cycles", "templates__n_cycles")
 # The one feature column in OP units (all others are ratios within a signal): what
 # diagnose_analysed rescales when it reads features from loops that are not normalised.
 _OP_UNIT_FEATURES = ("valve_model__stiction_fit_band",)
-# _COARSER: a loop whose cycles are slower, in samples, than any the model learned is read
-# in block means that bring its period to the training periods' upper quartile, keeping at
-# least _MIN_COARSE_ROWS rows. Loops made at ten times the sampling rate of the second
-# simulator's (a finer recording is not another loop) had lost 0.17 of balanced accuracy
-# (0.80 -> 0.64, 31 % of them outside the domain by their period); read coarser, 0.79, and
-# loops within the period range are never touched (benchmarks/sampling_rate.py).
+# A loop whose cycles are slower, in samples, than any the model learned (a finer recording
+# is not another loop) is read in block means that bring its period to the training
+# periods' upper quartile, keeping at least _MIN_COARSE_ROWS rows (and min_samples). The
+# second simulator's records interpolated ten times finer had fallen from 0.807 to 0.710
+# (14 % of them beyond the period range); read coarser, 0.800. Loops within the range are
+# never touched (benchmarks/sampling_rate.py).
 _PERIOD, _OSCILLATING = "templates__period", "templates__oscillating"
 _MIN_COARSE_ROWS = 600
 # Statistics checked by the domain rules but not given to the model.
@@ -572,6 +572,13 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
     def fit(self, X, y):
         """Compute the features, fit the domain check and the calibrated model.
 
+        NaN gaps are repaired as at prediction (bridged, or the longest stretch kept), and
+        loops that cannot be judged are left out with a warning that counts them by
+        reason. Holds, spikes, placeholders and OP alignment are *not* undone here, unlike
+        :meth:`diagnose`: the model is trained on simulated loops read as made (the spike
+        rule finds a "spike" in 7 of the default model's 1,420). To train on measured
+        loops, repair them first: ``sktiction._cleaning.as_judged(check_loops(X))``.
+
         Parameters
         ----------
         X : array-like of shape (n_loops, n_samples, n_channels)
@@ -661,13 +668,14 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
 
     def _coarsening(self, loops, feats):
         """Rows per block for each loop: > 1 where its period lies beyond the model's
-        domain (see _COARSER), else 1."""
+        domain (see _MIN_COARSE_ROWS), else 1."""
         period = feats[_PERIOD].to_numpy(dtype=float)
         high = self.domain_high_[list(self.feature_names_).index(_PERIOD)]
         with np.errstate(invalid="ignore"):
             slow = (feats[_OSCILLATING].to_numpy(dtype=float) > 0) & (period > high)
             k = np.ceil(period / getattr(self, "trained_period_", np.nan))
-        k = np.minimum(np.where(slow, k, 1), loop_lengths(loops) // _MIN_COARSE_ROWS)
+        keep = max(_MIN_COARSE_ROWS, self.min_samples)  # never shorter than a verdict needs
+        k = np.minimum(np.where(slow, k, 1), loop_lengths(loops) // keep)
         return np.maximum(np.nan_to_num(k, nan=1.0), 1).astype(int)
 
     def _at_trained_scale(self, loops, feats):
@@ -680,9 +688,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         loops = np.array(loops, dtype=float)
         for i, n in zip(idx, loop_lengths(loops[idx])):
             m = int(n) // k[i]
-            blocks = loops[i, : m * k[i]].reshape(m, k[i], -1).mean(axis=1)
-            loops[i] = np.nan
-            loops[i, :m] = blocks
+            put_record(loops, i, loops[i, : m * k[i]].reshape(m, k[i], -1).mean(axis=1))
         feats = feats.copy()
         feats.iloc[idx] = self._features(normalise_loops(loops[idx])).to_numpy()
         return loops, feats, k
@@ -711,9 +717,11 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
     def diagnose(self, X):
         """Per loop: verdict, calibrated probability, whether the model may speak, and why.
 
-        Each loop is read as a file scan reads it: short NaN gaps inside the record are
-        bridged and, past a long one, the longest stretch is kept; an OP recorded a row
-        out of step with PV is moved back in line (:func:`~sktiction._cleaning.as_judged`).
+        Each loop is read as a file scan reads it (:func:`~sktiction._cleaning.as_judged`):
+        a regular hold is read as stored (a loop held k rows per value becomes k times
+        shorter), spikes are replaced, placeholders read as gaps, short NaN gaps bridged
+        and, past a long one, the longest stretch kept; an OP recorded a row out of step
+        with PV is moved back in line.
 
         Parameters
         ----------
