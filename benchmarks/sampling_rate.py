@@ -16,6 +16,10 @@ Judges, each with that step off and on (the same model, nothing retrained):
   of each record's increments over the square root of 2 (a proxy: its own code records
   at 1 s at the finest).
 
+And a controller slower than the record: the second simulator's records with PV
+interpolated 5 times finer (fresh noise as above) and OP and SP held 5 rows each, with the
+repair that reads such a loop at OP's rows (``_cleaning.hold_step`` on OP alone) off and on.
+
 Printed per judge: balanced accuracy ("no verdict" counts as "no stiction"), the share of
 loops the model judges and the share read coarser.
 
@@ -24,6 +28,7 @@ Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/sampling_rate.py [n_loops]`` (de
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import warnings
 
@@ -31,7 +36,7 @@ import numpy as np
 from independent_world import make_independent_loops
 from sklearn.metrics import balanced_accuracy_score
 
-from sktiction import pretrained_classifier
+from sktiction import _cleaning, pretrained_classifier
 from sktiction._validation import check_loops, loop_lengths
 from sktiction.classifiers import learned
 from sktiction.datasets import make_loops
@@ -40,9 +45,10 @@ N_LOOPS = int(sys.argv[1]) if len(sys.argv) > 1 else 300
 FINER = (3, 10)
 
 
-def interpolated(X, k, rng):
+def interpolated(X, k, rng, held=()):
     """Each record ``k`` times finer: straight lines between samples, plus white noise on PV
-    and OP of 0.3 times the record's increment standard deviation over sqrt(2)."""
+    and OP of 0.3 times the record's increment standard deviation over sqrt(2); channels in
+    ``held`` are instead held ``k`` rows per value (a controller ``k`` times slower)."""
     X = check_loops(X)
     out = np.full((len(X), (X.shape[1] - 1) * k + 1, 3), np.nan)
     for i, n in enumerate(loop_lengths(X)):
@@ -51,11 +57,34 @@ def interpolated(X, k, rng):
             x = X[i, :n, c]
             if np.isnan(x).all():
                 continue
-            y = np.interp(fine, t, x)
-            if c < 2:
-                y = y + rng.normal(0.0, 0.3 * np.std(np.diff(x)) / np.sqrt(2), y.size)
+            if c in held:
+                y = np.repeat(x, k)[: fine.size]
+            else:
+                y = np.interp(fine, t, x)
+                if c < 2:
+                    y = y + rng.normal(0.0, 0.3 * np.std(np.diff(x)) / np.sqrt(2), y.size)
             out[i, : y.size, c] = y
     return out
+
+
+def coarsening_off():
+    """Context: no loop is long enough to be read coarser."""
+    return _patched(learned, "_MIN_COARSE_ROWS", 10**12)
+
+
+def op_grid_off():
+    """Context: only whole rows held on a grid are read as stored, not OP alone."""
+    return _patched(_cleaning, "hold_step", lambda loop, n: _cleaning._hold_grid(loop[:n]))
+
+
+@contextlib.contextmanager
+def _patched(module, name, value):
+    keep = getattr(module, name)
+    setattr(module, name, value)
+    try:
+        yield
+    finally:
+        setattr(module, name, keep)
 
 
 def judge(model, X, y):
@@ -68,26 +97,26 @@ def main():
     warnings.simplefilter("ignore", UserWarning)
     model = pretrained_classifier()
     rng = np.random.default_rng(0)
-    judges = [("default world", *make_loops(N_LOOPS, random_state=12345))]
+    judges = [("default world", *make_loops(N_LOOPS, random_state=12345), coarsening_off)]
     for k in FINER:
         X, y = make_loops(N_LOOPS, n_samples=2000 * k, period_range=(8.0 * k, 300.0 * k),
                           random_state=12345)  # fmt: skip
-        judges.append((f"default world, {k}x finer", X, y))
+        judges.append((f"default world, {k}x finer", X, y, coarsening_off))
     Xi, yi, _ = make_independent_loops(N_LOOPS, 3000, random_state=2026)
-    judges.append(("second simulator", Xi, yi))
+    judges.append(("second simulator", Xi, yi, coarsening_off))
     for k in FINER:
-        judges.append((f"second simulator, {k}x finer", interpolated(Xi, k, rng), yi))
+        judges.append((f"second simulator, {k}x finer", interpolated(Xi, k, rng), yi,
+                       coarsening_off))  # fmt: skip
+    slow = interpolated(Xi, 5, rng, held=(1, 2))
+    judges.append(("second simulator, OP held 5 rows", slow, yi, op_grid_off))
     print(f"trained_period_ = {model.trained_period_:.1f} samples; balanced accuracy "
-          "(judged, read coarser) without -> with reading coarser")  # fmt: skip
-    keep = learned._MIN_COARSE_ROWS
-    for name, X, y in judges:
-        learned._MIN_COARSE_ROWS = 10**12  # no loop is long enough to coarsen: step off
-        try:
+          "(judged, read coarser) without -> with the step (reading coarser; for OP held, "
+          "reading at OP's rows)")  # fmt: skip
+    for name, X, y, step_off in judges:
+        with step_off():
             off = judge(model, X, y)
-        finally:
-            learned._MIN_COARSE_ROWS = keep
         on = judge(model, X, y)
-        print(f"{name:32s} {off[0]:.3f} ({off[1]:.2f}) -> {on[0]:.3f} ({on[1]:.2f}, {on[2]:.2f})",
+        print(f"{name:34s} {off[0]:.3f} ({off[1]:.2f}) -> {on[0]:.3f} ({on[1]:.2f}, {on[2]:.2f})",
               flush=True)  # fmt: skip
 
 

@@ -99,6 +99,15 @@ def test_a_regular_hold_is_found_with_its_phase_and_irregular_repeats_are_not():
         idx = np.flatnonzero(~np.isnan(x))
         compressed[:, c] = x[idx[np.searchsorted(idx, np.arange(300), side="right") - 1]]
     assert hold_step(compressed[5:], 295)[0] == 1
+    # OP alone on a grid (a controller slower than the record) is read at OP's rows; PV
+    # alone on one is not (the controller still moves OP every row)
+    slow_op = np.stack([_sine(899, seed=5), held[:, 1], np.full(899, np.nan)], axis=1)
+    assert hold_step(slow_op, 899) == (3, 2)
+    slow_pv = slow_op[:, [1, 0, 2]]
+    assert hold_step(slow_pv, 899) == (1, 0)
+    on_off = slow_op.copy()  # a two-level OP switching on a grid: an on/off output
+    on_off[:, 1] = np.sign(np.sin(2 * np.pi * (np.arange(899) // 3 * 3 + 1) / 30))
+    assert hold_step(on_off, 899) == (1, 0)
 
 
 def test_hidden_spike_and_hold_leave_the_scan_where_the_clean_loop_is():
@@ -295,3 +304,20 @@ def test_the_scan_reports_how_far_it_moved_op():
     expected = align_op(early, loop_lengths(early))[1]
     np.testing.assert_array_equal(report["op_shift"], expected)
     assert (report["op_shift"] == -1).mean() >= 0.5
+
+
+def test_a_controller_slower_than_the_record_is_read_at_its_own_rate():
+    """Hide a controller that runs 3 times slower than the record (PV logged every row,
+    OP and SP only every third): the repair reads the rows where OP moves and gives back
+    the loop at the controller's rate."""
+    X, _ = make_loops(4, n_samples=600, world="classic", random_state=2)
+    fine_t = np.arange(599 * 3 + 1) / 3
+    fine = np.stack(
+        [np.stack([np.interp(fine_t, np.arange(600), x[:, 0]),
+                   np.repeat(x[:, 1], 3)[: fine_t.size],
+                   np.repeat(x[:, 2], 3)[: fine_t.size]], axis=1) for x in X]
+    )  # fmt: skip
+    fixed, gaps = repaired(fine, "auto")
+    assert (gaps[:, GAP_COLUMNS.index("rows_per_value")] == 3).all()
+    np.testing.assert_allclose(fixed[:, :600], X, rtol=1e-12)
+    assert np.isnan(fixed[:, 600:]).all()
