@@ -237,10 +237,9 @@ def hold_step(loop, n):
     simulation recorded at its fine step, a DCS block scanned slower than the historian
     logs): read at OP's rows, PV is what the controller saw. With OP held 5 rows and PV
     recorded every row, the default model had fallen from 0.807 to 0.727 on 300 of the
-    second simulator's loops; read at OP's rows, 0.803 (benchmarks/sampling_rate.py).
-    No loop of 400 held-out
-    default-world loops, 400 second-simulator loops, 56 measured windows or the default
-    model's 1,421 training loops has such a grid.
+    second simulator's loops; read at OP's rows, 0.803 (benchmarks/sampling_rate.py). No
+    loop of 400 held-out default-world loops, 400 second-simulator loops, 56 measured
+    windows or the default model's 1,421 training loops has such a grid.
     """
     step = _hold_grid(loop[:n])
     if step[0] > 1:

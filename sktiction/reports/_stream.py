@@ -86,8 +86,9 @@ def _note_repairs(row):
     notes = [row["reason"]] if row.get("reason") else []
     if step > 1:
         row["ts"] = row["ts"] * step
-        notes.append(f"each value repeated on {step:.0f} rows (export grid finer than the "
-                     f"stored data): read one row in {step:.0f}, sample time {row['ts']:g} s")
+        notes.append(f"values repeated on {step:.0f} rows (an export grid finer than the "
+                     "stored data, or OP alone: a controller slower than the record): read "
+                     f"one row in {step:.0f}, sample time {row['ts']:g} s")
     if spikes > 0:
         notes.append(f"{spikes:.0f} spike sample{'s' if spikes > 1 else ''} (far from both "
                      "neighbours) replaced by a line between them")
