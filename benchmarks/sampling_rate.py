@@ -16,9 +16,11 @@ Judges, each with that step off and on (the same model, nothing retrained):
   of each record's increments over the square root of 2 (a proxy: its own code records
   at 1 s at the finest).
 
-And a controller slower than the record: the second simulator's records with PV
-interpolated 5 times finer (fresh noise as above) and OP and SP held 5 rows each, with the
-repair that reads such a loop at OP's rows (``_cleaning.hold_step`` on OP alone) off and on.
+And one tag slower than the record, with the repair that reads such a loop at that tag's
+rows (``_cleaning.hold_step`` on one channel alone) off and on: a controller 5 times slower
+(the second simulator's records with PV interpolated 5 times finer, fresh noise as above,
+and OP and SP held 5 rows each), and a PV logged 3 times slower than OP (each third PV
+value held 3 rows, OP as recorded).
 
 Printed per judge: balanced accuracy ("no verdict" counts as "no stiction"), the share of
 loops the model judges and the share read coarser.
@@ -67,13 +69,21 @@ def interpolated(X, k, rng, held=()):
     return out
 
 
+def pv_held(X, k):
+    """Each ``k``-th PV value held ``k`` rows, OP and SP as recorded (PV logged slower)."""
+    X = check_loops(X).copy()
+    for i, n in enumerate(loop_lengths(X)):
+        X[i, :n, 0] = np.repeat(X[i, :n:k, 0], k)[:n]
+    return X
+
+
 def coarsening_off():
     """Context: no loop is long enough to be read coarser."""
     return _patched(learned, "_MIN_COARSE_ROWS", 10**12)
 
 
-def op_grid_off():
-    """Context: only whole rows held on a grid are read as stored, not OP alone."""
+def one_tag_grid_off():
+    """Context: only whole rows held on a grid are read as stored, not one tag alone."""
     return _patched(_cleaning, "hold_step", lambda loop, n: _cleaning._hold_grid(loop[:n]))
 
 
@@ -108,10 +118,11 @@ def main():
         judges.append((f"second simulator, {k}x finer", interpolated(Xi, k, rng), yi,
                        coarsening_off))  # fmt: skip
     slow = interpolated(Xi, 5, rng, held=(1, 2))
-    judges.append(("second simulator, OP held 5 rows", slow, yi, op_grid_off))
+    judges.append(("second simulator, OP held 5 rows", slow, yi, one_tag_grid_off))
+    judges.append(("second simulator, PV held 3 rows", pv_held(Xi, 3), yi, one_tag_grid_off))
     print(f"trained_period_ = {model.trained_period_:.1f} samples; balanced accuracy "
-          "(judged, read coarser) without -> with the step (reading coarser; for OP held, "
-          "reading at OP's rows)")  # fmt: skip
+          "(judged, read coarser) without -> with the step (reading coarser; for a tag held, "
+          "reading at that tag's rows)")  # fmt: skip
     for name, X, y, step_off in judges:
         with step_off():
             off = judge(model, X, y)

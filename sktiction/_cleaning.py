@@ -9,8 +9,8 @@ and by every classifier (:func:`as_judged`).
 - **Regular holds**: every value written k times because the export grid is k times finer
   than the historian's storage interval. The record then looks like a valve that sticks
   for k - 1 samples out of k; read every k-th row, it is the loop as stored. OP alone on
-  such a grid is a controller running k times slower than the record; read at OP's rows,
-  PV is what the controller saw.
+  such a grid is a controller running k times slower than the record, PV alone a tag
+  logged slower than OP; read at that tag's rows, the loop is what the slower side saw.
 - **Placeholders**: a stretch of "no data" written as a number (-9999, 1e30, 3.4e38)
   instead of text. Longer than a spike, it is a step out and back that no statistic
   survives (20 rows of -9999 in PV and OP turned a sticky loop at p 1.0 into "outside the
@@ -51,8 +51,8 @@ MAX_PLACEHOLDER_SHARE = 0.2
 #: Fewest value changes from which a hold grid is believed (a chance alignment of 20
 #: changes on one phase of 2 has probability 2e-6).
 MIN_HOLD_CHANGES = 20
-#: Fewest distinct OP values for OP alone on a grid to be a slow controller's output.
-_MIN_OP_LEVELS = 8
+#: Fewest distinct values for one channel alone on a grid to be a slower tag's record.
+_MIN_LEVELS = 8
 
 
 def _spike_limit(x, d):
@@ -229,24 +229,27 @@ def remove_placeholders(loop, n):
 
 
 def hold_step(loop, n):
-    """``(k, phase)`` when every channel of one loop, or else OP alone, changes value only
-    on rows ``phase + j * k`` (2 <= k <= 60; at least 98 % of :data:`MIN_HOLD_CHANGES` or
-    more changes), else ``(1, 0)``: the largest such k.
+    """``(k, phase)`` when every channel of one loop, or else OP alone, or else PV alone,
+    changes value only on rows ``phase + j * k`` (2 <= k <= 60; at least 98 % of
+    :data:`MIN_HOLD_CHANGES` or more changes; one channel alone with at least
+    :data:`_MIN_LEVELS` values), else ``(1, 0)``: the largest such k.
 
-    OP alone on such a grid is a controller that runs k times slower than the record (a
-    simulation recorded at its fine step, a DCS block scanned slower than the historian
-    logs): read at OP's rows, PV is what the controller saw. With OP held 5 rows and PV
-    recorded every row, the default model had fallen from 0.807 to 0.727 on 300 of the
-    second simulator's loops; read at OP's rows, 0.803 (benchmarks/sampling_rate.py). No
-    loop of 400 held-out default-world loops, 400 second-simulator loops, 56 measured
-    windows or the default model's 1,421 training loops has such a grid.
+    One tag on such a grid is recorded or computed k times slower than the record: OP, a
+    controller slower than the record (a simulation logged at its fine step, a DCS block
+    scanned slower than the historian logs); PV, a tag logged or measured slower (an
+    analyser). Read at that tag's rows, the loop is what the slower side saw; as recorded,
+    a held PV beside a moving OP looks like a stuck valve. On 300 of the second simulator's
+    loops (benchmarks/sampling_rate.py) OP held 5 rows had taken the default model from
+    0.807 to 0.727 (read at OP's rows, 0.803), PV held 3 rows to 0.68 (read, 0.82). No
+    loop of 400 held-out default-world or classic-world loops, 400 second-simulator loops,
+    56 measured windows or the default model's 1,421 training loops has such a grid.
     """
     step = _hold_grid(loop[:n])
-    if step[0] > 1:
-        return step
-    step = _hold_grid(loop[:n, 1:2])
-    if step[0] > 1 and np.unique(loop[:n, 1]).size < _MIN_OP_LEVELS:
-        return 1, 0  # a two-level OP on a grid is an on/off output or a square wave
+    for c in (1, 0):  # OP alone, then PV alone
+        if step[0] == 1:
+            step = _hold_grid(loop[:n, c : c + 1])
+            if step[0] > 1 and np.unique(loop[:n, c]).size < _MIN_LEVELS:
+                step = 1, 0  # two levels on a grid: an on/off output or a square wave
     return step
 
 

@@ -99,12 +99,11 @@ def test_a_regular_hold_is_found_with_its_phase_and_irregular_repeats_are_not():
         idx = np.flatnonzero(~np.isnan(x))
         compressed[:, c] = x[idx[np.searchsorted(idx, np.arange(300), side="right") - 1]]
     assert hold_step(compressed[5:], 295)[0] == 1
-    # OP alone on a grid (a controller slower than the record) is read at OP's rows; PV
-    # alone on one is not (the controller still moves OP every row)
+    # OP alone on a grid (a controller slower than the record) is read at OP's rows, PV
+    # alone (a PV logged slower than OP) at PV's; a two-level channel on a grid is not
     slow_op = np.stack([_sine(899, seed=5), held[:, 1], np.full(899, np.nan)], axis=1)
     assert hold_step(slow_op, 899) == (3, 2)
-    slow_pv = slow_op[:, [1, 0, 2]]
-    assert hold_step(slow_pv, 899) == (1, 0)
+    assert hold_step(slow_op[:, [1, 0, 2]], 899) == (3, 2)
     on_off = slow_op.copy()  # a two-level OP switching on a grid: an on/off output
     on_off[:, 1] = np.sign(np.sin(2 * np.pi * (np.arange(899) // 3 * 3 + 1) / 30))
     assert hold_step(on_off, 899) == (1, 0)
@@ -321,3 +320,15 @@ def test_a_controller_slower_than_the_record_is_read_at_its_own_rate():
     assert (gaps[:, GAP_COLUMNS.index("rows_per_value")] == 3).all()
     np.testing.assert_allclose(fixed[:, :600], X, rtol=1e-12)
     assert np.isnan(fixed[:, 600:]).all()
+
+
+def test_a_pv_logged_slower_than_op_is_read_at_its_own_rate():
+    """Hide a PV logged 3 times slower than OP (each value held 3 rows beside an OP that
+    moves every row, which read as recorded looks like a valve stuck between PV's updates):
+    the repair reads the rows where PV moves."""
+    X, _ = make_loops(4, n_samples=600, world="classic", random_state=2)
+    slow = X.copy()
+    slow[:, :, 0] = np.repeat(X[:, ::3, 0], 3, axis=1)
+    fixed, gaps = repaired(slow, "auto")
+    assert (gaps[:, GAP_COLUMNS.index("rows_per_value")] == 3).all()
+    np.testing.assert_array_equal(fixed[:, :200], X[:, ::3])

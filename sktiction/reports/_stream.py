@@ -87,7 +87,7 @@ def _note_repairs(row):
     if step > 1:
         row["ts"] = row["ts"] * step
         notes.append(f"values repeated on {step:.0f} rows (an export grid finer than the "
-                     "stored data, or OP alone: a controller slower than the record): read "
+                     "stored data, or one tag alone: logged or computed slower): read "
                      f"one row in {step:.0f}, sample time {row['ts']:g} s")
     if spikes > 0:
         notes.append(f"{spikes:.0f} spike sample{'s' if spikes > 1 else ''} (far from both "
