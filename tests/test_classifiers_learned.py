@@ -750,7 +750,7 @@ def test_glitches_are_read_as_a_scan_reads_them(data, model):
     assert (rule.predict(spiky) == rule.predict(X)).mean() >= 0.9
 
 
-def test_reading_coarser_keeps_the_rows_a_verdict_needs(model, monkeypatch):
+def test_reading_coarser_keeps_the_rows_a_verdict_needs(model):
     # a min_samples above the 600 rows kept by default: a loop read coarser must not fall
     # below it (a valid setting had turned such loops into too_short)
     fine_X, _ = make_loops(8, n_samples=3600, world="classic", period_range=(200.0, 2000.0),
