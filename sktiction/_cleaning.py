@@ -395,7 +395,8 @@ def repaired(loops, max_gap, usable=None):
     classifier (:func:`as_judged`) repair this way:
 
     1. a regular hold (every value on ``k`` rows: an export grid finer than the stored
-       data) is read every ``k``-th row (the sample time is then ``k`` times longer);
+       data; or one tag's alone, :func:`hold_step`) is read every ``k``-th row (the
+       sample time is then ``k`` times longer);
     2. spikes (1-3 samples far from both neighbours) are replaced by a straight line;
     3. placeholders for missing data written as numbers (-9999 for a stretch) become gaps;
     4. short gaps are bridged and the longest stretch kept

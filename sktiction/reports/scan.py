@@ -521,8 +521,9 @@ def scan_loops(
     if gaps and max_gap is None:
         warnings.warn(
             f"{gaps} of {n} loops have NaN gaps inside the record and got no verdict "
-            "(status nan_gap); scan_loops(X, max_gap='auto') bridges short gaps and keeps "
-            "the longest stretch, as scan_files does.", UserWarning, stacklevel=2,
+            "(status nan_gap, as max_gap=None asks); the default max_gap='auto' bridges "
+            "short gaps and keeps the longest stretch, as scan_files does.", UserWarning,
+            stacklevel=2,
         )
     if meta is not None and "ts" in meta and max_gap is not None:
         meta = meta.copy()  # a hold undone: the rows read are k times further apart
