@@ -28,7 +28,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validation import gap_free_lengths, loop_lengths, repair_gaps
+from ._validation import (
+    check_loops,
+    check_max_gap,
+    gap_free_lengths,
+    loop_lengths,
+    repair_gaps,
+)
 from .cycles._signal import fast_percentile
 
 #: Widest spike removed, in samples.
@@ -432,6 +438,74 @@ def repaired(loops, max_gap, usable=None):
                             gaps[idx, 2])
     gaps[idx, 4], gaps[idx, 5], gaps[idx, 6] = spikes, step, placeholders
     return loops, gaps
+
+
+def clean_loops(X, *, max_gap="auto", align=True):
+    """Loops as a scan and every classifier read them, and what was done to each.
+
+    The repairs a file scan makes before any analysis, for loops you hold in memory
+    (to fit :class:`~sktiction.LearnedStictionClassifier` on measured loops, to look at
+    what a classifier saw, or to store cleaned records):
+
+    1. a regular hold (each stored value written on ``k`` rows: an export grid finer
+       than the historian's storage, a controller or PV tag logged slower than the
+       record) read one row in ``k``;
+    2. spikes of 1-3 samples replaced by a straight line;
+    3. placeholders for missing data written as numbers (-9999 for a stretch) read as gaps;
+    4. short gaps bridged and, past a long one, the longest stretch kept;
+    5. with ``align``, OP moved one row back in line with PV where its increments fit a
+       controller's clearly better that way.
+
+    Parameters
+    ----------
+    X : array-like of shape (n_loops, n_samples, n_channels)
+        Loops, channels PV, OP, SP, NaN-padded at the end.
+    max_gap : "auto" or int, default="auto"
+        Longest gap bridged, in samples (``0``: none; the longest stretch without gaps is
+        kept); ``"auto"`` as :func:`sktiction.scan_loops` reads it: per loop, a gap
+        whose bridge spans at most 1/16 of PV's period, at most 5 % of the record.
+    align : bool, default=True
+        Move OP in line with PV (step 5).
+
+    Returns
+    -------
+    loops : ndarray of shape (n_loops, n_samples, 3)
+        The cleaned loops, NaN-padded at the end (a loop read one row in ``k`` or cut to
+        its longest stretch is shorter); ``X`` itself is not changed.
+    report : pandas.DataFrame
+        One row per loop: ``n_bridged``, ``n_gaps_split``, ``kept_start`` and
+        ``kept_stop`` (the stretch kept, in ``X``'s rows), ``n_spikes`` (samples
+        replaced, all channels), ``rows_per_value`` (``k``; 1 when nothing was held),
+        ``n_placeholders`` and ``op_shift`` (rows OP was moved; 0 when not).
+
+    Raises
+    ------
+    ValueError, TypeError
+        On input that is not loops (see :func:`sktiction.scan_loops` for a per-loop
+        status instead).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction import clean_loops
+    >>> t = np.arange(600)
+    >>> loop = np.column_stack([np.sin(t / 9), np.cos(t / 9), np.zeros(600)])
+    >>> loop[300, :2] = -9999.0  # a "Bad" value written as a number, in PV and OP
+    >>> loops, report = clean_loops(loop[None])
+    >>> bool(np.abs(loops[0, :, :2]).max() <= 1.0), report.loc[0, "n_spikes"].item()
+    (True, 2)
+    """
+    import pandas as pd
+
+    check_max_gap(max_gap)
+    loops, done = repaired(check_loops(X), max_gap)
+    # check_loops refused inf, so every loop was looked at: whole counts
+    report = pd.DataFrame(done.astype(int), columns=list(GAP_COLUMNS))
+    shifts = np.zeros(len(loops), dtype=int)
+    if align:
+        loops, shifts = align_op(loops, loop_lengths(loops))
+    report["op_shift"] = shifts
+    return loops, report
 
 
 def as_judged(loops, *, training=False):

@@ -304,6 +304,12 @@ def gap_free_lengths(X):
     return lengths
 
 
+def check_max_gap(max_gap):
+    """Raise ``ValueError`` unless ``max_gap`` is ``"auto"`` or an integer >= 0."""
+    if not (max_gap == "auto" or (isinstance(max_gap, numbers.Integral) and max_gap >= 0)):
+        raise ValueError(f"max_gap must be 'auto' or an integer >= 0; got {max_gap!r}.")
+
+
 def repair_gaps(X, max_gap="auto", *, min_length=20):
     """Bridge short NaN gaps; split records at long ones and keep the longest stretch.
 
@@ -356,8 +362,7 @@ def repair_gaps(X, max_gap="auto", *, min_length=20):
     """
     import pandas as pd  # pandas only for the info table; keeps this module light to import
 
-    if not (max_gap == "auto" or (isinstance(max_gap, numbers.Integral) and max_gap >= 0)):
-        raise ValueError(f"max_gap must be 'auto' or an integer >= 0; got {max_gap!r}.")
+    check_max_gap(max_gap)
     if not (isinstance(min_length, numbers.Integral) and min_length >= 1):
         raise ValueError(f"min_length must be an integer >= 1; got {min_length!r}.")
     X = check_loops(X)

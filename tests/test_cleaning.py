@@ -5,6 +5,7 @@ about them."""
 import numpy as np
 import pytest
 
+from sktiction import clean_loops
 from sktiction._cleaning import (
     GAP_COLUMNS,
     _paired,
@@ -332,3 +333,47 @@ def test_a_pv_logged_slower_than_op_is_read_at_its_own_rate():
     fixed, gaps = repaired(slow, "auto")
     assert (gaps[:, GAP_COLUMNS.index("rows_per_value")] == 3).all()
     np.testing.assert_array_equal(fixed[:, :200], X[:, ::3])
+
+
+def test_clean_loops_undoes_every_artefact_hidden_at_once_and_a_second_pass_finds_none():
+    X = check_loops(make_loops(40, n_samples=1500, world="classic", random_state=24)[0])
+    # stored rows with OP one row early, a spike in PV, 30 rows of placeholders and a
+    # 2-sample gap, exported on a grid 3 times finer
+    stored = _shift_op(X, -1)
+    top, bottom = np.nanmax(stored[:, :, 0], axis=1), np.nanmin(stored[:, :, 0], axis=1)
+    stored[:, 100, 0] = top + 10 * (top - bottom)
+    stored[:, 200:230, :2] = 3.4e38
+    stored[:, 400:402] = np.nan
+    dirty = np.repeat(stored, 3, axis=1)
+    loops, report = clean_loops(dirty, max_gap=5)  # in rows as stored
+    assert report.columns.tolist() == [*GAP_COLUMNS, "op_shift"]
+    assert (report["rows_per_value"] == 3).all()
+    # a fast flat-topped cycle jumps too often for a spike to stand out
+    assert (report["n_spikes"] == 1).mean() >= 0.9
+    assert (report["n_placeholders"] == 60).all()
+    assert (report["n_bridged"] == 1).all() and (report["n_gaps_split"] == 1).all()
+    assert (report["kept_start"] == 3 * 230).all() and (report["kept_stop"] == 3 * 1499).all()
+    # the stretch kept is the clean loop's rows 231-1498, OP in line again where moved
+    moved = report["op_shift"] == 1
+    assert moved.mean() >= 0.5
+    for i in np.flatnonzero(moved):
+        n = int(loop_lengths(loops[i : i + 1])[0])
+        np.testing.assert_array_equal(loops[i, :n, :2][::100], X[i, 231 : 231 + n, :2][::100])
+    again, report2 = clean_loops(loops)
+    np.testing.assert_array_equal(again, loops)
+    assert (report2[["n_bridged", "n_gaps_split", "n_spikes", "n_placeholders", "op_shift"]]
+            == 0).all().all() and (report2["rows_per_value"] == 1).all()  # fmt: skip
+
+
+def test_clean_loops_refuses_what_is_not_loops_and_leaves_its_input_alone():
+    X = check_loops(make_loops(3, n_samples=400, random_state=25)[0])
+    X[0, 50, 0] = -9999.0
+    before = X.copy()
+    clean_loops(X)
+    np.testing.assert_array_equal(X, before)
+    with pytest.raises(ValueError, match="max_gap"):
+        clean_loops(X, max_gap=-1)
+    with pytest.raises(ValueError, match="infinite"):
+        clean_loops(np.full((1, 50, 3), np.inf))
+    with pytest.raises(TypeError, match="numbers"):
+        clean_loops(np.full((1, 50, 3), "a", dtype=object))

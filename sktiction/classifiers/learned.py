@@ -577,7 +577,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         reason. Holds, spikes, placeholders and OP alignment are *not* undone here, unlike
         :meth:`diagnose`: the model is trained on simulated loops read as made (the spike
         rule finds a "spike" in 7 of the default model's 1,420). To train on measured
-        loops, repair them first: ``sktiction._cleaning.as_judged(check_loops(X))``.
+        loops, clean them first with :func:`sktiction.clean_loops`.
 
         Parameters
         ----------
