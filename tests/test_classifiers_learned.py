@@ -36,6 +36,7 @@ from sktiction.classifiers.learned import (
 )
 from sktiction.datasets import make_loops
 from sktiction.features._loops import analyse_loops
+from sktiction.reports import scan_loops
 
 
 def pi_loop(n=1000, seed=0, step=True):
@@ -732,6 +733,11 @@ def test_loops_recorded_finer_than_the_training_loops_are_read_coarser(model, mo
     shared = model.diagnose_analysed(loops, analyse_loops(loops))
     pd.testing.assert_series_equal(shared["rows_per_sample"], fine["rows_per_sample"])
     pd.testing.assert_series_equal(shared["prediction"], fine["prediction"])
+    # and the scan's report says how the model read each loop
+    report = scan_loops(fine_X, classifier=model)
+    judged = report["status"].eq("ok").to_numpy()
+    np.testing.assert_array_equal(report["rows_per_sample"].to_numpy()[judged],
+                                  fine["rows_per_sample"].to_numpy()[judged])  # fmt: skip
 
 
 def test_glitches_are_read_as_a_scan_reads_them(data, model):

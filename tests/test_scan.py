@@ -78,6 +78,7 @@ def reference_scan(X, loop_types, learned):
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": np.asarray(band, dtype=float),
             "op_shift": shifts,
+            "rows_per_sample": np.where(ok, 1.0, np.nan),  # a pipeline reads loops as given
             "reason": status,  # "ok" where the learned model judged the loop
         }
     )

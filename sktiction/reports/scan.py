@@ -46,6 +46,7 @@ REPORT_COLUMNS = [
     "stiction_size_max",
     "stiction_band_fit",
     "op_shift",
+    "rows_per_sample",
     "reason",
 ]
 #: Probability from which the learned classifier's verdict is "stiction".
@@ -142,9 +143,13 @@ class LearnedAdapter:
         proba : ndarray of shape (n_loops,)
         abstain : ndarray of object, shape (n_loops,)
             ``None`` where the model judges the loop, its reason elsewhere.
+        rows_per_sample : ndarray of shape (n_loops,)
+            Rows the model averaged into one sample (the learned model's ``diagnose``
+            column; 1 for a model that does not say).
         """
         clf = self.classifier
         abstain = np.full(len(loops), None, dtype=object)
+        rows = np.ones(len(loops))
         report = None
         if callable(getattr(clf, "diagnose_analysed", None)):
             report = clf.diagnose_analysed(loops, analyses, status)
@@ -155,15 +160,17 @@ class LearnedAdapter:
                 out = ~report["in_domain"].to_numpy(dtype=bool)
                 reasons = report["reason"] if "reason" in report else "out_of_domain"
                 abstain[out] = np.broadcast_to(np.asarray(reasons, dtype=object), out.shape)[out]
-            return report["probability"].to_numpy(dtype=float), abstain
+            if "rows_per_sample" in report:
+                rows = report["rows_per_sample"].to_numpy(dtype=float)
+            return report["probability"].to_numpy(dtype=float), abstain, rows
         if isinstance(clf, Pipeline) and len(clf.steps) >= 2:
             features = _shared_features(clf.steps[0][1], loops, analyses, status)
             if features is not None:
                 for _, step in clf.steps[1:-1]:
                     if step is not None and step != "passthrough":
                         features = step.transform(features)
-                return clf.steps[-1][1].predict_proba(features)[:, 1], abstain
-        return np.asarray(clf.predict_proba(loops))[:, 1], abstain
+                return clf.steps[-1][1].predict_proba(features)[:, 1], abstain, rows
+        return np.asarray(clf.predict_proba(loops))[:, 1], abstain, rows
 
 
 class _Rules:
@@ -192,13 +199,16 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
         parts.append(part.set_axis(idx))
     shape = pd.concat(parts).sort_index()
     proba = np.full(len(loops), np.nan)
+    rows = np.full(len(loops), np.nan)
     ok = status == STATUS_OK
     # reason explains the verdict: "ok" where the learned model judged the loop; the shape
     # library's own reason (e.g. not_oscillating beside a learned stiction) is shape_reason
     reason = status.astype(object)
     if ok.any():  # the learned model reads OP too: only loops that can be analysed
         idx = np.flatnonzero(ok)
-        p, abstain = learned.predict(loops[idx], [analyses[i] for i in idx], status[idx])
+        p, abstain, rows[idx] = learned.predict(
+            loops[idx], [analyses[i] for i in idx], status[idx]
+        )
         proba[idx] = p
         judged = np.array([a is None for a in abstain])
         reason[idx[~judged]] = abstain[~judged]
@@ -234,6 +244,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": band,
             "op_shift": shifts,
+            "rows_per_sample": rows,
             "reason": reason,
         }
     )
@@ -438,6 +449,9 @@ def scan_loops(
     ``shape_reason`` is the shape library's own (e.g. ``not_oscillating``: no size from
     it). ``op_shift`` is the number of rows OP was moved to line up with PV before
     anything else (0: as recorded; see :func:`~sktiction._cleaning.align_op`).
+    ``rows_per_sample`` is the number of rows the learned classifier averaged into
+    one sample: 1 as recorded; a loop recorded much finer than its training loops is
+    read in block means (:meth:`~sktiction.LearnedStictionClassifier.diagnose`).
 
     Parameters
     ----------
