@@ -25,6 +25,17 @@ STATUS_TOO_SHORT = "too_short"
 STATUS_NAN_GAP = "nan_gap"
 STATUS_CONSTANT = "constant"
 STATUS_MISSING_OP = "missing_op"
+STATUS_SWAPPED = "pv_op_swapped"
+
+# A loop whose OP tracks the setpoint and whose PV does not has its PV and OP swapped
+# (ISDB's files, for one, list OP before PV). Integral action keeps PV's median at SP's,
+# so PV more than _SWAP_PV_OFF of its spreads away says PV is not the controlled
+# variable; OP within _SWAP_OP_NEAR of its spread of SP, its whole spread under
+# _SWAP_OP_SPREAD of PV's distance, says OP is. A saturated loop (PV off, OP swinging
+# over its range) fails the last test. No loop as recorded met all three among 1,000
+# default-world, 500 classic-world, 400 second-simulator and 47 plant loops; swapped,
+# 80-92 % did (16 % in the classic world, whose OP and SP share a scale).
+_SWAP_PV_OFF, _SWAP_OP_NEAR, _SWAP_OP_SPREAD = 2.0, 0.5, 0.25
 
 
 def check_random_state_seed(random_state):
@@ -185,7 +196,7 @@ def loop_lengths(loops):
     return np.where(valid.any(axis=1), last, 0)
 
 
-def loop_status(loops, *, min_samples=20, require_op=False):
+def loop_status(loops, *, min_samples=20, require_op=False, check_swap=False):
     """Per-loop status codes: why a loop cannot be analysed, or ``"ok"``.
 
     Parameters
@@ -196,13 +207,18 @@ def loop_status(loops, *, min_samples=20, require_op=False):
         Fewer valid samples than this gives ``"too_short"``.
     require_op : bool, default=False
         When True a loop without an OP channel gives ``"missing_op"``.
+    check_swap : bool, default=False
+        When True a loop with OP and SP whose OP tracks the setpoint and PV does not
+        gives ``"pv_op_swapped"`` (:func:`looks_swapped`): every verdict asks, the
+        feature transformers do not (a feature is a number, not a verdict).
 
     Returns
     -------
     status : ndarray of str, shape (n_loops,)
         One of ``ok``, ``empty``, ``too_short``, ``nan_gap`` (NaN inside the
         record, not only as end padding, in PV, or in OP or SP where the loop has
-        them), ``constant`` (PV, or OP when required, never moves) and ``missing_op``.
+        them), ``constant`` (PV, or OP when required, never moves), ``missing_op``
+        and ``pv_op_swapped``.
 
     Examples
     --------
@@ -232,9 +248,46 @@ def loop_status(loops, *, min_samples=20, require_op=False):
             out[i] = STATUS_MISSING_OP
         elif np.ptp(pv) == 0 or (require_op and np.ptp(op) == 0):
             out[i] = STATUS_CONSTANT
+        elif check_swap and has_op and has_sp and looks_swapped(pv, op, sp):
+            out[i] = STATUS_SWAPPED
         else:
             out[i] = STATUS_OK
     return out.astype(str)
+
+
+def _spread(x):
+    q25, q75 = np.percentile(x, [25, 75])
+    iqr = (q75 - q25) / 1.349  # the standard deviation for normal data
+    return iqr if iqr > 0 else float(np.std(x))
+
+
+def looks_swapped(pv, op, sp):
+    """Whether OP tracks the setpoint and PV does not: PV and OP swapped.
+
+    Parameters
+    ----------
+    pv, op, sp : ndarray of shape (n_samples,)
+        One loop's record, without NaN.
+
+    Returns
+    -------
+    swapped : bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction._validation import looks_swapped
+    >>> t = np.arange(500.0)
+    >>> pv = 120 + np.sin(t / 8)                  # flow at its setpoint of 120 m3/h
+    >>> op = 35 + 4 * np.cos(t / 8)               # valve at 35 % open
+    >>> sp = np.full(500, 120.0)
+    >>> looks_swapped(pv, op, sp), looks_swapped(op, pv, sp)
+    (False, True)
+    """
+    pv_off, op_off = abs(np.median(sp - pv)), abs(np.median(sp - op))
+    op_spread = _spread(op)
+    return bool(pv_off > _SWAP_PV_OFF * _spread(pv) and op_off < _SWAP_OP_NEAR * op_spread
+                and op_spread < _SWAP_OP_SPREAD * pv_off)  # fmt: skip
 
 
 def check_positive(value, name, *, strict=True, upper=None):

@@ -222,6 +222,19 @@ def test_labelled_measured_loops_are_all_applicable():
     assert not bad, result.loc[~result["applicable"], "reason"].tolist()
 
 
+def test_measured_loops_with_pv_and_op_swapped_are_told_apart():
+    """The plant windows have a setpoint: as recorded, PV tracks it; written OP first,
+    OP does, and the loop gets pv_op_swapped instead of a verdict on the wrong signals."""
+    from sktiction._validation import check_loops, loop_status
+
+    loops = check_loops(read_loops(DATA / "plant", on_error="skip").X)
+    assert len(loops) == 47
+    assert not (loop_status(loops, require_op=True, check_swap=True) == "pv_op_swapped").any()
+    swapped = loop_status(loops[:, :, [1, 0, 2]], require_op=True, check_swap=True)
+    assert (swapped == "pv_op_swapped").mean() >= 0.8
+    assert (loop_status(loops[:, :, [1, 0, 2]], require_op=True) == "ok").all()  # asked only
+
+
 def test_scan_calls_no_garbage_loop_sticky():
     """Through the scan, whatever the learned model says, garbage gets no stiction verdict."""
     from sktiction import pretrained_classifier

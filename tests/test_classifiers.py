@@ -18,6 +18,7 @@ from sktiction import (
 )
 from sktiction.classifiers import SHAPE_LIBRARY
 from sktiction.datasets import make_loops
+from sktiction.reports import scan_loops
 
 TRAIN_SEED, TEST_SEED = 0, 12345
 
@@ -139,6 +140,30 @@ def test_bad_loops_get_zero_with_reason_in_a_batch_and_predict_says_so(clf):
     assert report.loc[0, "prediction"] == clf.diagnose(X[:1]).loc[0, "prediction"]
     with pytest.warns(UserWarning, match=r"2 of 4 loops cannot be judged \(constant: 1, too_sh"):
         assert clf.predict(bad)[1:3].tolist() == [0, 0]
+
+
+def test_swapped_pv_and_op_get_no_verdict_from_every_classifier_and_the_scan(learned):
+    # written OP first (as ISDB's files list them): OP now "tracks" the setpoint
+    X, y = make_loops(60, n_samples=1500, random_state=7)
+    swapped = X[:, :, [1, 0, 2]]
+    area, shape = AreaRatioClassifier().fit(X, y), ShapeLibraryClassifier().fit(X, y)
+    for clf in (area, shape, learned):
+        assert not clf.diagnose(X)["reason"].eq("pv_op_swapped").any()
+        found = clf.diagnose(swapped)["reason"].eq("pv_op_swapped")
+        assert found.mean() >= 0.7
+    with pytest.warns(UserWarning, match=r"loops cannot be judged \(pv_op_swapped: \d+"):
+        assert (shape.predict(swapped)[found.to_numpy()] == 0).all()
+    with pytest.warns(UserWarning, match=r"pv_op_swapped: \d+\); they score -1.5"):
+        score = area.decision_function(swapped)  # the rule's R on the wrong signals: none
+    assert (score[found.to_numpy()] == -1.5).all()
+    with pytest.warns(UserWarning, match="pv_op_swapped"):
+        np.testing.assert_array_equal(score > 0, area.predict(swapped) == 1)
+    report = scan_loops(swapped, classifier=learned)
+    assert report.loc[found.to_numpy(), "status"].eq("pv_op_swapped").all()
+    assert report.loc[found.to_numpy(), "verdict"].eq("no_verdict").all()
+    # a feature is a number, not a verdict: transformers still read the loop
+    features = AreaRatio().fit_transform(swapped)
+    assert np.isfinite(features[found.to_numpy()]).any()
 
 
 def test_shape_library_without_op_says_missing_op():

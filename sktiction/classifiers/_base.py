@@ -16,6 +16,7 @@ from .._validation import (
     STATUS_MISSING_OP,
     STATUS_NAN_GAP,
     STATUS_OK,
+    STATUS_SWAPPED,
     STATUS_TOO_SHORT,
     loop_status,
     validate_loops,
@@ -29,6 +30,7 @@ _NO_VERDICT = "predict gives them the negative class, predict_proba NaN"
 #: rules' answer "no stiction").
 INPUT_PROBLEMS = (
     STATUS_EMPTY, STATUS_TOO_SHORT, STATUS_NAN_GAP, STATUS_CONSTANT, STATUS_MISSING_OP,
+    STATUS_SWAPPED,
 )
 
 
@@ -155,7 +157,7 @@ class LoopClassifierMixin:
         """
         check_is_fitted(self, "classes_")
         if status is None:
-            status = loop_status(loops, require_op=self._require_op)
+            status = loop_status(loops, require_op=self._require_op, check_swap=True)
         report = self._score_loops(loops, analyses, status)
         bad = status != "ok"
         report.loc[bad, "reason"] = status[bad]

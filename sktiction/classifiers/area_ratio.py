@@ -8,7 +8,7 @@ from sklearn.base import BaseEstimator, ClassifierMixin, clone
 
 from ..features import AreaRatio
 from ..features._loops import analyse_loops
-from ._base import REASON_NOT_OSCILLATING, LoopClassifierMixin
+from ._base import INPUT_PROBLEMS, REASON_NOT_OSCILLATING, LoopClassifierMixin, said_unjudged
 
 
 class AreaRatioClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator):
@@ -95,6 +95,10 @@ class AreaRatioClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator):
     def decision_function(self, X):
         """``R - 1 - threshold``; loops without a usable R score as if R were 0.
 
+        Loops with an input problem (see :meth:`diagnose`) score so too, with a warning
+        that counts them, as :meth:`predict` says ``0`` for them: ``predict(X)`` is
+        always ``decision_function(X) > 0``.
+
         Parameters
         ----------
         X : array-like of shape (n_loops, n_samples, n_channels)
@@ -105,4 +109,6 @@ class AreaRatioClassifier(LoopClassifierMixin, ClassifierMixin, BaseEstimator):
         scores : ndarray of shape (n_loops,)
             Positive means stiction.
         """
-        return self._score_loops(self._checked(X))["score"].to_numpy()
+        report = said_unjudged(self.diagnose(X), f"they score {-1.0 - self.threshold:g}",
+                               problems=INPUT_PROBLEMS)  # fmt: skip
+        return report["score"].to_numpy(dtype=float)

@@ -634,7 +634,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
     # ---- verdicts -------------------------------------------------------------------
 
     def _hard_reasons(self, loops, feats):
-        status = loop_status(loops, require_op=True).astype(object)
+        status = loop_status(loops, require_op=True, check_swap=True).astype(object)
         n = loop_lengths(loops)
         ok = status == STATUS_OK
         status[ok & (n < self.min_samples)] = REASON_TOO_SHORT

@@ -189,7 +189,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
         learned = LearnedAdapter(learned)
     loops, shifts = align_op(loops, loop_lengths(loops))
     analyses = analyse_loops(loops)
-    status = loop_status(loops, require_op=True)
+    status = loop_status(loops, require_op=True, check_swap=True)
     ar = rules.area_ratio.diagnose_analysed(loops, analyses)
     parts = []
     for lt in pd.unique(loop_types):  # one shape-library row per loop type
