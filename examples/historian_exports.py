@@ -14,7 +14,8 @@ it as ``sktiction scan`` would and prints what the readers and the scan's repair
 
 The last column gives each loop's probability scanned as an array before it was exported:
 the readers and repairs should give it back (the model's own errors on these four loops
-are the model's, not the files').
+are the model's, not the files'). Last, ``clean_loops`` makes the scan's repairs on the
+loops as read, as one would before fitting a model on measured loops.
 
 Run: python examples/historian_exports.py [folder]  (default: a temporary folder)
 """
@@ -26,7 +27,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from sktiction.datasets import make_loops, read_loop_file
+from sktiction import clean_loops
+from sktiction.datasets import make_loops, read_loop_file, read_loops
 from sktiction.reports import scan_files, scan_loops
 
 folder = Path(sys.argv[1] if len(sys.argv) > 1 else tempfile.mkdtemp(prefix="exports_"))
@@ -95,3 +97,10 @@ columns = ["file", "tag", "truth", "verdict", "stiction_probability", "p_before_
 print("\nthe scan (truth: the simulated cause; p_before_export: the loop scanned as an array")
 print("before it was exported, which the readers and repairs should give back):")
 print(report[columns].to_string(index=False, float_format="%.2f"))
+
+# the same repairs on loops in memory (e.g. before fitting a model on measured loops)
+site = read_loops(folder)
+loops, repairs = clean_loops(site.X)
+repairs.insert(0, "tag", site.meta["tag"].to_numpy())
+print("\nclean_loops on the loops as read (what a classifier is given):")
+print(repairs.to_string(index=False))
