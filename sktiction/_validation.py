@@ -284,10 +284,12 @@ def looks_swapped(pv, op, sp):
     >>> looks_swapped(pv, op, sp), looks_swapped(op, pv, sp)
     (False, True)
     """
-    pv_off, op_off = abs(np.median(sp - pv)), abs(np.median(sp - op))
+    pv_off = abs(np.median(sp - pv))
+    if not pv_off > _SWAP_PV_OFF * _spread(pv):  # PV at its setpoint: most loops stop here
+        return False
     op_spread = _spread(op)
-    return bool(pv_off > _SWAP_PV_OFF * _spread(pv) and op_off < _SWAP_OP_NEAR * op_spread
-                and op_spread < _SWAP_OP_SPREAD * pv_off)  # fmt: skip
+    return bool(op_spread < _SWAP_OP_SPREAD * pv_off
+                and abs(np.median(sp - op)) < _SWAP_OP_NEAR * op_spread)  # fmt: skip
 
 
 def check_positive(value, name, *, strict=True, upper=None):
