@@ -264,6 +264,10 @@ def _spread(x):
 def looks_swapped(pv, op, sp):
     """Whether OP tracks the setpoint and PV does not: PV and OP swapped.
 
+    The same record results when the setpoint is exported in OP's units (% of range)
+    while PV is in engineering units; either way a verdict read from the control error
+    ``SP - PV`` would be read from the wrong signals.
+
     Parameters
     ----------
     pv, op, sp : ndarray of shape (n_samples,)
