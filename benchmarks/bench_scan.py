@@ -210,7 +210,7 @@ def stage_shares(folder, classifier, n_files=64):
     _scan_chunk(loops, np.array(["auto"] * len(loops), dtype=object), clf, rules, None, gate)
     total = time.perf_counter() - t0
     analyses = analyse_loops(loops)
-    status = loop_status(loops, require_op=True)
+    status = loop_status(loops, require_op=True, check_swap=True)
     t0 = time.perf_counter()
     for a in analyses:
         a.cycles("error"), a.cycles("op"), a.cycles("pv")

@@ -318,6 +318,73 @@ def _controller_r2(pv, op, sp, has_sp):
     return float(coef @ rhs) / sst
 
 
+#: PV and OP swapped (:func:`looks_swapped`): PV this many of its spreads off the setpoint,
+#: OP within this share of its spread of it, OP's spread under this share of PV's distance.
+_SWAP_PV_OFF, _SWAP_OP_NEAR, _SWAP_OP_SPREAD = 2.0, 0.5, 0.25
+
+
+def _spread(x):
+    q25, q75 = np.percentile(x, [25, 75])
+    iqr = (q75 - q25) / 1.349  # the standard deviation for normal data
+    return iqr if iqr > 0 else float(np.std(x))
+
+
+def looks_swapped(pv, op, sp):
+    """Whether PV and OP are swapped: OP tracks the setpoint, PV does not, and the
+    record reads as a controller's the other way round.
+
+    Integral action keeps PV's median at the setpoint's, so PV more than
+    ``_SWAP_PV_OFF`` of its spreads away says PV is not the controlled variable; OP
+    within ``_SWAP_OP_NEAR`` of its spread of SP, its whole spread under
+    ``_SWAP_OP_SPREAD`` of PV's distance, says OP is. Those alone also fit a loop off
+    its setpoint whose OP sits at the setpoint's value by chance (a P-only level loop
+    at its bias, a loop in manual at a round 50 %, a saturated one): so the increments
+    of the channel recorded as PV must also fit a PI controller's velocity form on the
+    error ``SP - OP`` (:func:`_controller_r2`, at least :data:`_SHIFT_MIN_R2`) better than
+    OP's fit on ``SP - PV``. Asking more (1.1 or 1.5 times better, as :func:`op_shift`
+    does) lost a third to four fifths of the swaps found: a plant's answer to OP fits a
+    controller's form almost as well. So a P-only loop whose OP sits at the setpoint's
+    value by chance and is recorded with noise of its own can still read as swapped. A
+    setpoint exported
+    in OP's units (% of range) beside a PV in engineering units reads alike; either
+    way a verdict on ``SP - PV`` would read the wrong signals.
+
+    Parameters
+    ----------
+    pv, op, sp : ndarray of shape (n_samples,)
+        One loop's record as given, without NaN.
+
+    Returns
+    -------
+    swapped : bool
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction._cleaning import looks_swapped
+    >>> rng = np.random.default_rng(0)
+    >>> pv, op, sp = np.full(1000, 120.0), np.full(1000, 35.0), np.full(1000, 120.0)
+    >>> load = np.cumsum(rng.normal(0, 0.05, 1000))  # a flow at 120 m3/h, valve 35 % open
+    >>> for t in range(1, 1000):                     # a PI controller rejects the load
+    ...     pv[t] = 120 + load[t] + 0.5 * (op[t - 1] - 35) + rng.normal(0, 0.2)
+    ...     e, e1 = sp[t] - pv[t], sp[t - 1] - pv[t - 1]
+    ...     op[t] = op[t - 1] + 0.8 * (e - e1) + 0.1 * e
+    >>> looks_swapped(pv, op, sp), looks_swapped(op, pv, sp)
+    (False, True)
+    """
+    pv_off = abs(np.median(sp - pv))
+    if not pv_off > _SWAP_PV_OFF * _spread(pv):  # PV at its setpoint: most loops stop here
+        return False
+    op_spread = _spread(op)
+    if not (op_spread < _SWAP_OP_SPREAD * pv_off
+            and abs(np.median(sp - op)) < _SWAP_OP_NEAR * op_spread):  # fmt: skip
+        return False
+    as_given = np.nan_to_num(_controller_r2(pv, op, sp, True))  # NaN: too few rows
+    exchanged = _controller_r2(op, pv, sp, True)
+    # a tie (a P-only controller fits exactly both ways) is no evidence of a swap
+    return bool(exchanged >= _SHIFT_MIN_R2 and exchanged > as_given + 1e-6)
+
+
 def _rows(loop, n, s):
     """``PV[t], OP[t + s], SP[t]`` (views) over the first ``n`` rows where both exist."""
     a, b = max(0, -s), n - max(0, s)
@@ -454,7 +521,12 @@ def clean_loops(X, *, max_gap="auto", align=True):
     3. placeholders for missing data written as numbers (-9999 for a stretch) read as gaps;
     4. short gaps bridged and, past a long one, the longest stretch kept;
     5. with ``align``, OP moved one row back in line with PV where its increments fit a
-       controller's clearly better that way.
+       controller's clearly better that way. One row at most: an OP two rows out of step
+       is left one row out, and a second call moves it again (a loop one row out, the
+       case this is for, is left as it is by a second call).
+
+    Every classifier and scan makes these repairs itself: the loops returned are what
+    they see, and need not be cleaned before them.
 
     Parameters
     ----------
@@ -462,7 +534,7 @@ def clean_loops(X, *, max_gap="auto", align=True):
         Loops, channels PV, OP, SP, NaN-padded at the end.
     max_gap : "auto" or int, default="auto"
         Longest gap bridged, in samples (``0``: none; the longest stretch without gaps is
-        kept); ``"auto"`` as :func:`sktiction.scan_loops` reads it: per loop, a gap
+        kept); ``"auto"`` as :func:`sktiction.reports.scan_loops` reads it: per loop, a gap
         whose bridge spans at most 1/16 of PV's period, at most 5 % of the record.
     align : bool, default=True
         Move OP in line with PV (step 5).
@@ -474,15 +546,16 @@ def clean_loops(X, *, max_gap="auto", align=True):
         its longest stretch is shorter); ``X`` itself is not changed.
     report : pandas.DataFrame
         One row per loop: ``n_bridged``, ``n_gaps_split``, ``kept_start`` and
-        ``kept_stop`` (the stretch kept, in ``X``'s rows), ``n_spikes`` (samples
+        ``kept_stop`` (the stretch gap repair kept, in ``X``'s rows; moving OP leaves
+        out one more row at one end), ``n_spikes`` (samples
         replaced, all channels), ``rows_per_value`` (``k``; 1 when nothing was held),
         ``n_placeholders`` and ``op_shift`` (rows OP was moved; 0 when not).
 
     Raises
     ------
     ValueError, TypeError
-        On input that is not loops (see :func:`sktiction.scan_loops` for a per-loop
-        status instead).
+        On input that is not loops (see :func:`sktiction.reports.scan_loops` for a
+        per-loop status instead).
 
     Examples
     --------

@@ -27,15 +27,6 @@ STATUS_CONSTANT = "constant"
 STATUS_MISSING_OP = "missing_op"
 STATUS_SWAPPED = "pv_op_swapped"
 
-# A loop whose OP tracks the setpoint and whose PV does not has its PV and OP swapped
-# (ISDB's files, for one, list OP before PV). Integral action keeps PV's median at SP's,
-# so PV more than _SWAP_PV_OFF of its spreads away says PV is not the controlled
-# variable; OP within _SWAP_OP_NEAR of its spread of SP, its whole spread under
-# _SWAP_OP_SPREAD of PV's distance, says OP is. A saturated loop (PV off, OP swinging
-# over its range) fails the last test. No loop as recorded met all three among 1,000
-# default-world, 500 classic-world, 400 second-simulator and 47 plant loops; swapped,
-# 80-92 % did (16 % in the classic world, whose OP and SP share a scale).
-_SWAP_PV_OFF, _SWAP_OP_NEAR, _SWAP_OP_SPREAD = 2.0, 0.5, 0.25
 
 
 def check_random_state_seed(random_state):
@@ -209,8 +200,9 @@ def loop_status(loops, *, min_samples=20, require_op=False, check_swap=False):
         When True a loop without an OP channel gives ``"missing_op"``.
     check_swap : bool, default=False
         When True a loop with OP and SP whose OP tracks the setpoint and PV does not
-        gives ``"pv_op_swapped"`` (:func:`looks_swapped`): every verdict asks, the
-        feature transformers do not (a feature is a number, not a verdict).
+        gives ``"pv_op_swapped"`` (:func:`~sktiction._cleaning.looks_swapped`): every
+        verdict asks, the feature transformers do not (a feature is a number, not a
+        verdict).
 
     Returns
     -------
@@ -248,52 +240,11 @@ def loop_status(loops, *, min_samples=20, require_op=False, check_swap=False):
             out[i] = STATUS_MISSING_OP
         elif np.ptp(pv) == 0 or (require_op and np.ptp(op) == 0):
             out[i] = STATUS_CONSTANT
-        elif check_swap and has_op and has_sp and looks_swapped(pv, op, sp):
+        elif check_swap and has_op and has_sp and _looks_swapped(pv, op, sp):
             out[i] = STATUS_SWAPPED
         else:
             out[i] = STATUS_OK
     return out.astype(str)
-
-
-def _spread(x):
-    q25, q75 = np.percentile(x, [25, 75])
-    iqr = (q75 - q25) / 1.349  # the standard deviation for normal data
-    return iqr if iqr > 0 else float(np.std(x))
-
-
-def looks_swapped(pv, op, sp):
-    """Whether OP tracks the setpoint and PV does not: PV and OP swapped.
-
-    The same record results when the setpoint is exported in OP's units (% of range)
-    while PV is in engineering units; either way a verdict read from the control error
-    ``SP - PV`` would be read from the wrong signals.
-
-    Parameters
-    ----------
-    pv, op, sp : ndarray of shape (n_samples,)
-        One loop's record, without NaN.
-
-    Returns
-    -------
-    swapped : bool
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from sktiction._validation import looks_swapped
-    >>> t = np.arange(500.0)
-    >>> pv = 120 + np.sin(t / 8)                  # flow at its setpoint of 120 m3/h
-    >>> op = 35 + 4 * np.cos(t / 8)               # valve at 35 % open
-    >>> sp = np.full(500, 120.0)
-    >>> looks_swapped(pv, op, sp), looks_swapped(op, pv, sp)
-    (False, True)
-    """
-    pv_off = abs(np.median(sp - pv))
-    if not pv_off > _SWAP_PV_OFF * _spread(pv):  # PV at its setpoint: most loops stop here
-        return False
-    op_spread = _spread(op)
-    return bool(op_spread < _SWAP_OP_SPREAD * pv_off
-                and abs(np.median(sp - op)) < _SWAP_OP_NEAR * op_spread)  # fmt: skip
 
 
 def check_positive(value, name, *, strict=True, upper=None):
@@ -363,9 +314,16 @@ def gap_free_lengths(X):
     return lengths
 
 
+def _looks_swapped(pv, op, sp):
+    from ._cleaning import looks_swapped  # _cleaning builds on this module
+
+    return looks_swapped(pv, op, sp)
+
+
 def check_max_gap(max_gap):
     """Raise ``ValueError`` unless ``max_gap`` is ``"auto"`` or an integer >= 0."""
-    if not (max_gap == "auto" or (isinstance(max_gap, numbers.Integral) and max_gap >= 0)):
+    integer = isinstance(max_gap, numbers.Integral) and not isinstance(max_gap, bool)
+    if not (max_gap == "auto" or (integer and max_gap >= 0)):
         raise ValueError(f"max_gap must be 'auto' or an integer >= 0; got {max_gap!r}.")
 
 

@@ -9,8 +9,10 @@ from sktiction import clean_loops
 from sktiction._cleaning import (
     GAP_COLUMNS,
     _paired,
+    _spread,
     align_op,
     hold_step,
+    looks_swapped,
     placeholder_mask,
     remove_spikes,
     repaired,
@@ -377,3 +379,34 @@ def test_clean_loops_refuses_what_is_not_loops_and_leaves_its_input_alone():
         clean_loops(np.full((1, 50, 3), np.inf))
     with pytest.raises(TypeError, match="numbers"):
         clean_loops(np.full((1, 50, 3), "a", dtype=object))
+
+
+def _p_only_level(n=2000, seed=4):
+    """A level loop under P-only control, all in %: at its bias the valve holds the level
+    about 10 % above the setpoint of 50 %, and OP sits at about 50 % too."""
+    rng = np.random.default_rng(seed)
+    pv, op, level = np.zeros(n), np.zeros(n), 60.0
+    inflow = 50 + np.cumsum(rng.normal(0, 0.02, n))
+    for t in range(n):
+        pv[t] = level + rng.normal(0, 0.2)
+        op[t] = np.clip(40 + (pv[t] - 50.0), 0, 100)
+        level += 0.05 * (inflow[t] - op[t])
+    return pv, op, np.full(n, 50.0)
+
+
+def test_a_swap_is_read_from_the_controller_not_from_values_that_happen_to_agree():
+    X = check_loops(make_loops(40, n_samples=2000, random_state=26)[0])
+    swapped = [looks_swapped(x[:n, 1], x[:n, 0], x[:n, 2]) for x, n in zip(X, loop_lengths(X))]
+    assert np.mean(swapped) >= 0.6
+    assert not any(looks_swapped(x[:n, 0], x[:n, 1], x[:n, 2]) for x, n in
+                   zip(X, loop_lengths(X)))  # fmt: skip
+    # PV off its setpoint while OP sits at the setpoint's value by chance: not a swap
+    pv, op, sp = _p_only_level()
+    pv_off, op_spread = abs(np.median(sp - pv)), _spread(op)  # the values agree with a swap
+    assert pv_off > 2 * _spread(pv) and abs(np.median(sp - op)) < 0.5 * op_spread < pv_off / 8
+    assert not looks_swapped(pv, op, sp)
+    rng = np.random.default_rng(1)
+    manual = np.full(2000, 50.0)  # in manual at a round 50 %, the level drifting above SP
+    manual[rng.choice(2000, 40, replace=False)] += 0.5
+    level = 65 + 3 * np.sin(np.arange(2000) / 400) + rng.normal(0, 0.3, 2000)
+    assert not looks_swapped(level, manual, np.full(2000, 50.0))

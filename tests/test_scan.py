@@ -53,7 +53,7 @@ def reference_scan(X, loop_types, learned):
         part = ShapeLibraryClassifier(loop_type=lt).fit(loops[idx]).diagnose(loops[idx])
         parts.append(part.set_axis(idx))
     shape = pd.concat(parts).sort_index()
-    status = loop_status(loops, require_op=True)
+    status = loop_status(loops, require_op=True, check_swap=True)
     ok = status == "ok"
     proba = np.full(len(loops), np.nan)
     proba[ok] = learned.predict_proba(loops[ok])[:, 1]

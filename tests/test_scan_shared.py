@@ -36,7 +36,8 @@ def loops():
 
 def test_same_verdicts_and_probabilities_as_diagnose(model, loops):
     expected = model.diagnose(loops)
-    got = model.diagnose_analysed(loops, analyse_loops(loops), loop_status(loops, require_op=True))
+    status = loop_status(loops, require_op=True, check_swap=True)
+    got = model.diagnose_analysed(loops, analyse_loops(loops), status)
     assert got.columns.tolist() == expected.columns.tolist()
     np.testing.assert_array_equal(got["prediction"], expected["prediction"])
     np.testing.assert_array_equal(got["in_domain"], expected["in_domain"])

@@ -148,7 +148,7 @@ class LoopClassifierMixin:
             One per loop (:func:`~sktiction.features._loops.analyse_loops`).
         status : ndarray of str or None, default=None
             :func:`~sktiction._validation.loop_status` with this classifier's
-            ``require_op``, if already known.
+            ``require_op`` and ``check_swap=True``, if already known.
 
         Returns
         -------

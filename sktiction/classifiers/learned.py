@@ -766,7 +766,8 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             One per loop (:func:`~sktiction.features._loops.analyse_loops`), shared
             with other users.
         status : ndarray of str or None, default=None
-            :func:`~sktiction._validation.loop_status` with ``require_op=True``, if known.
+            :func:`~sktiction._validation.loop_status` with ``require_op=True`` (a scan
+            passes it with ``check_swap=True``), if known.
 
         Returns
         -------

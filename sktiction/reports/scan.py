@@ -22,9 +22,9 @@ from .._cleaning import GAP_COLUMNS, align_op, repaired
 from .._validation import (
     STATUS_OK,
     check_loops,
+    check_max_gap,
     loop_lengths,
     loop_status,
-    repair_gaps,
 )
 from ..classifiers import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
 from ..classifiers.shape_library import LOOP_TYPES
@@ -449,9 +449,11 @@ def scan_loops(
     ``shape_reason`` is the shape library's own (e.g. ``not_oscillating``: no size from
     it). ``op_shift`` is the number of rows OP was moved to line up with PV before
     anything else (0: as recorded; see :func:`~sktiction._cleaning.align_op`).
-    ``rows_per_sample`` is the number of rows the learned classifier averaged into
-    one sample: 1 as recorded; a loop recorded much finer than its training loops is
-    read in block means (:meth:`~sktiction.LearnedStictionClassifier.diagnose`).
+    ``rows_per_sample`` is the number of rows, as read, that the learned classifier
+    averaged into one sample: 1, or more for a loop recorded much finer than its
+    training loops, read in block means
+    (:meth:`~sktiction.LearnedStictionClassifier.diagnose`); after a hold was undone
+    (``rows_per_value`` k), each row read stands for k rows of the input.
 
     Parameters
     ----------
@@ -519,7 +521,7 @@ def scan_loops(
     rules = _Rules(check_loops(np.zeros((1, 30, 3))))  # neutral: batch[0] may hold inf
     gate = _applicability_gate()
     if max_gap is not None:
-        repair_gaps(np.zeros((1, 30, 3)), max_gap=max_gap)  # a bad max_gap fails here, once
+        check_max_gap(max_gap)  # a bad max_gap fails here, once
     starts = range(0, n, chunk_size)
     units = [
         (batch[s : s + chunk_size], loop_types[s : s + chunk_size],
