@@ -28,7 +28,6 @@ STATUS_MISSING_OP = "missing_op"
 STATUS_SWAPPED = "pv_op_swapped"
 
 
-
 def check_random_state_seed(random_state):
     """Return a :class:`numpy.random.Generator` from ``None``, an int or a Generator."""
     if isinstance(random_state, np.random.Generator):
@@ -220,6 +219,8 @@ def loop_status(loops, *, min_samples=20, require_op=False, check_swap=False):
     >>> loop_status(X).tolist()
     ['ok', 'constant']
     """
+    if check_swap:
+        from ._cleaning import looks_swapped  # _cleaning builds on this module
     lengths = loop_lengths(loops)
     out = np.empty(len(loops), dtype=object)
     for i, n in enumerate(lengths):
@@ -240,7 +241,7 @@ def loop_status(loops, *, min_samples=20, require_op=False, check_swap=False):
             out[i] = STATUS_MISSING_OP
         elif np.ptp(pv) == 0 or (require_op and np.ptp(op) == 0):
             out[i] = STATUS_CONSTANT
-        elif check_swap and has_op and has_sp and _looks_swapped(pv, op, sp):
+        elif check_swap and has_op and has_sp and looks_swapped(pv, op, sp):
             out[i] = STATUS_SWAPPED
         else:
             out[i] = STATUS_OK
@@ -312,12 +313,6 @@ def gap_free_lengths(X):
         if missing_samples(x, n)[1].any() or np.isinf(x[:n]).any():
             return None
     return lengths
-
-
-def _looks_swapped(pv, op, sp):
-    from ._cleaning import looks_swapped  # _cleaning builds on this module
-
-    return looks_swapped(pv, op, sp)
 
 
 def check_max_gap(max_gap):
