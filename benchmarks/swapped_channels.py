@@ -1,11 +1,12 @@
 """PV and OP swapped: how often the check (``pv_op_swapped``) finds it, and how often it
 cries wolf on loops as recorded.
 
-A loop whose OP tracks the setpoint and whose PV does not has its channels swapped (an
-export that lists OP first, as ISDB's files do) or a setpoint in OP's units. Every verdict
-then reads the wrong signals. For each data set: loops flagged as recorded (false flags),
-loops flagged with PV and OP swapped (found), and what a scan of swapped default-world
-loops says with the check and without it (verdicts read from the wrong signals).
+A loop whose OP tracks the setpoint, whose PV does not, and whose record fits a
+controller better read the other way round has its channels swapped (an export that lists
+OP first, as ISDB's files do). Every verdict would then read the wrong signals. For each
+data set: loops flagged as recorded (false flags), loops flagged with PV and OP swapped
+(found), and what a scan of swapped default-world loops says with the check and without it
+(verdicts read from the wrong signals).
 
 Data sets: the default and classic worlds of ``make_loops``, the second simulator of
 ``independent_world.py`` and the plant windows of ``../shared/data`` (skipped when absent;

@@ -345,8 +345,9 @@ def looks_swapped(pv, op, sp):
     does) lost a third to four fifths of the swaps found: a plant's answer to OP fits a
     controller's form almost as well. So a P-only loop whose OP sits at the setpoint's
     value by chance and is recorded with noise of its own can still read as swapped. A
-    setpoint exported in OP's units (% of range) beside a PV in engineering units reads
-    alike; either way a verdict on ``SP - PV`` would read the wrong signals.
+    setpoint exported in OP's units (% of range) beside a PV in engineering units is not
+    a swap: OP still fits a controller on ``SP - PV`` (an offset in the error changes
+    no increment), and a verdict reads the loop's dynamics, not its setpoint's units.
 
     Parameters
     ----------
