@@ -279,13 +279,19 @@ def _top(table, n):
 
 def _verdict_counts(report):
     """One line: how many loops got each verdict (rows of files that gave no loop are not
-    loops)."""
+    loops), and the commonest reasons for no verdict: a site where most loops say
+    ``pv_op_swapped`` or ``too_short`` has a mapping or export to fix, not loops."""
     loops = report
     if "status" in report:
         loops = report[report["status"].astype(str).ne("unreadable")]
     counts = loops["verdict"].value_counts()
     parts = [f"{counts.get(v, 0)} {v}" for v in ("stiction", "no_stiction", "no_verdict")]
-    return f"verdicts of {len(loops)} loops: " + ", ".join(parts)
+    line = f"verdicts of {len(loops)} loops: " + ", ".join(parts)
+    if counts.get("no_verdict", 0) and "reason" in loops:
+        why = loops.loc[loops["verdict"].eq("no_verdict"), "reason"].astype(str)
+        top = why.str.split(";").str[0].str.strip().value_counts().head(3)
+        line += " (" + ", ".join(f"{n} {reason}" for reason, n in top.items()) + ")"
+    return line
 
 
 def _print_table(table, file=None):

@@ -274,6 +274,10 @@ def test_top_keeps_the_most_likely_sticky_rows_and_every_unread_file():
     assert cli._verdict_counts(report) == (
         "verdicts of 5 loops: 3 stiction, 1 no_stiction, 1 no_verdict"
     )
+    report["reason"] = ["ok", "ok", "ok", "pv_op_swapped", "ok; shapes: not_oscillating"]
+    assert cli._verdict_counts(pd.concat([report, report.iloc[[3]]])) == (
+        "verdicts of 6 loops: 3 stiction, 1 no_stiction, 2 no_verdict (2 pv_op_swapped)"
+    )
 
 
 def test_top_option_on_the_command_line(quick, folder, tmp_path, capsys):
