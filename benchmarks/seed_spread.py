@@ -15,8 +15,8 @@ computed once and every model reads them (``_diagnose_features``, the method beh
 ``diagnose``).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws] [first_draw]
-[--compare] [--control] [--second-simulator]`` (default 10 draws from 0; 10-30 s per draw
-on 2 idle cores).
+[--compare] [--control] [--second-simulator] [--loops=N]`` (default 10 draws from 0; 10-30 s
+per draw on 2 idle cores).
 ``--compare`` also trains each draw on every loop, the sticky loops whose slips stay
 inside the noise included (the recipe before they were left out), and prints the paired
 change; it doubles the time. ``--control`` adds two controls of that change: as many
@@ -25,7 +25,8 @@ decision threshold that the recipe's class balance implies (the prior shift alon
 triples the time. ``--second-simulator`` also trains each draw on the recipe's loops plus
 600 loops of ``independent_world.py`` (seed ``500 + draw``, never the judging seed 2026) and
 prints the change from the recipe alone: does a second simulator bring the model closer to
-the plants?
+the plants? ``--loops N`` also trains each draw's recipe on ``N`` simulated loops instead of
+1,500 and prints the paired change: does more of the simulator carry over?
 """
 
 import sys
@@ -132,8 +133,8 @@ def _with_second_simulator(seed, X, y, n_loops=600):
     return np.concatenate(pad), np.concatenate([y, y2])
 
 
-def main(n_draws=10, first=0, compare=False, control=False, second=False):
-    rows, paired, mixed, sets = [], [], [], None
+def main(n_draws=10, first=0, compare=False, control=False, second=False, loops=None):
+    rows, paired, mixed, bigger, sets = [], [], [], [], None
     for seed in range(first, first + n_draws):
         t0 = time.perf_counter()
         X, y = _training_set(seed, 1500, 2000, "default")
@@ -158,6 +159,12 @@ def main(n_draws=10, first=0, compare=False, control=False, second=False):
             mixed.append({**rows[-1], "training": "recipe"})
             mixed.append({"draw": seed, "training": "recipe + second simulator",
                           **_scores(both, sets)})  # fmt: skip
+        if loops:
+            Xn, yn = _training_set(seed, loops, 2000, "default")
+            more = make_learned_classifier(random_state=seed, n_jobs=2).fit(Xn, yn)
+            bigger.append({**rows[-1], "training": "recipe"})
+            bigger.append({"draw": seed, "training": f"recipe on {loops} loops",
+                           **_scores(more, sets)})  # fmt: skip
         print(f"draw {seed}: trained and judged in {time.perf_counter() - t0:.0f} s", flush=True)
     table = pd.DataFrame(rows).set_index("draw")
     print(table.round(3).to_string())
@@ -169,6 +176,8 @@ def main(n_draws=10, first=0, compare=False, control=False, second=False):
         _paired(paired)
     if mixed:
         _paired(mixed, base="recipe")
+    if bigger:
+        _paired(bigger, base="recipe")
 
 
 if __name__ == "__main__":
@@ -179,4 +188,5 @@ if __name__ == "__main__":
         compare="--compare" in sys.argv,
         control="--control" in sys.argv,
         second="--second-simulator" in sys.argv,
+        loops=next((int(a.split("=")[1]) for a in sys.argv if a.startswith("--loops=")), None),
     )
