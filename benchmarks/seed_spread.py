@@ -25,7 +25,7 @@ decision threshold that the recipe's class balance implies (the prior shift alon
 triples the time. ``--second-simulator`` also trains each draw on the recipe's loops plus
 600 loops of ``independent_world.py`` (seed ``500 + draw``, never the judging seed 2026) and
 prints the change from the recipe alone: does a second simulator bring the model closer to
-the plants? ``--loops N`` also trains each draw's recipe on ``N`` simulated loops instead of
+the plants? ``--loops=N`` also trains each draw's recipe on ``N`` simulated loops instead of
 1,500 and prints the paired change: does more of the simulator carry over?
 """
 

@@ -521,12 +521,14 @@ def clean_loops(X, *, max_gap="auto", align=True):
     3. placeholders for missing data written as numbers (-9999 for a stretch) read as gaps;
     4. short gaps bridged and, past a long one, the longest stretch kept;
     5. with ``align``, OP moved one row back in line with PV where its increments fit a
-       controller's clearly better that way. One row at most: an OP two rows out of step
-       is left one row out, and a second call moves it again (a loop one row out, the
-       case this is for, is left as it is by a second call).
+       controller's clearly better that way. One row at most: an OP one row out of step
+       is moved back, and a second call leaves it; one two or more rows out is not
+       reliably aligned.
 
-    Every classifier and scan makes these repairs itself: the loops returned are what
-    they see, and need not be cleaned before them.
+    Every scan and every classifier's ``predict``, ``predict_proba`` and ``diagnose``
+    make these repairs themselves: the loops returned are what they read. The learned
+    model's ``fit`` does not (it repairs gaps only): clean measured loops with this
+    before fitting on them.
 
     Parameters
     ----------

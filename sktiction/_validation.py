@@ -198,8 +198,9 @@ def loop_status(loops, *, min_samples=20, require_op=False, check_swap=False):
     require_op : bool, default=False
         When True a loop without an OP channel gives ``"missing_op"``.
     check_swap : bool, default=False
-        When True a loop with OP and SP whose OP tracks the setpoint and PV does not
-        gives ``"pv_op_swapped"`` (:func:`~sktiction._cleaning.looks_swapped`): every
+        When True a loop with OP and SP whose OP tracks the setpoint, whose PV does
+        not, and whose record fits a controller better read the other way round gives
+        ``"pv_op_swapped"`` (:func:`~sktiction._cleaning.looks_swapped`): every
         verdict asks, the feature transformers do not (a feature is a number, not a
         verdict).
 

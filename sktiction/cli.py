@@ -289,7 +289,8 @@ def _verdict_counts(report):
     line = f"verdicts of {len(loops)} loops: " + ", ".join(parts)
     if counts.get("no_verdict", 0) and "reason" in loops:
         why = loops.loc[loops["verdict"].eq("no_verdict"), "reason"].astype(str)
-        top = why.str.split(";").str[0].str.strip().value_counts().head(3)
+        # the code before any detail: "out_of_domain:<feature>", "ok; shapes: ..."
+        top = why.str.split(r"[;:]", regex=True).str[0].str.strip().value_counts().head(3)
         line += " (" + ", ".join(f"{n} {reason}" for reason, n in top.items()) + ")"
     return line
 

@@ -274,9 +274,14 @@ def test_top_keeps_the_most_likely_sticky_rows_and_every_unread_file():
     assert cli._verdict_counts(report) == (
         "verdicts of 5 loops: 3 stiction, 1 no_stiction, 1 no_verdict"
     )
-    report["reason"] = ["ok", "ok", "ok", "pv_op_swapped", "ok; shapes: not_oscillating"]
-    assert cli._verdict_counts(pd.concat([report, report.iloc[[3]]])) == (
-        "verdicts of 6 loops: 3 stiction, 1 no_stiction, 2 no_verdict (2 pv_op_swapped)"
+    report["reason"] = ["ok", "ok", "ok", "pv_op_swapped", "ok"]
+    more = pd.DataFrame({"verdict": "no_verdict", "reason": [
+        "pv_op_swapped", "out_of_domain:templates__period", "out_of_domain:area__area_ratio",
+        "out_of_domain:templates__period; shapes: not_oscillating", "ValueError: bad loop",
+    ]})  # fmt: skip
+    assert cli._verdict_counts(pd.concat([report, more])) == (
+        "verdicts of 10 loops: 3 stiction, 1 no_stiction, 6 no_verdict "
+        "(3 out_of_domain, 2 pv_op_swapped, 1 ValueError)"
     )
 
 

@@ -136,7 +136,8 @@ class LearnedAdapter:
         analyses : list of LoopAnalysis
             Their shared analyses.
         status : ndarray of str
-            :func:`~sktiction._validation.loop_status` with ``require_op=True``.
+            :func:`~sktiction._validation.loop_status` with ``require_op=True`` and
+            ``check_swap=True``.
 
         Returns
         -------
