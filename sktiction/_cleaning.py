@@ -35,7 +35,7 @@ from ._validation import (
     loop_lengths,
     repair_gaps,
 )
-from .cycles._signal import fast_percentile
+from .cycles._signal import fast_percentile, robust_spread
 
 #: Widest spike removed, in samples.
 MAX_SPIKE_WIDTH = 3
@@ -323,12 +323,6 @@ def _controller_r2(pv, op, sp, has_sp):
 _SWAP_PV_OFF, _SWAP_OP_NEAR, _SWAP_OP_SPREAD = 2.0, 0.5, 0.25
 
 
-def _spread(x):
-    q25, q75 = np.percentile(x, [25, 75])
-    iqr = (q75 - q25) / 1.349  # the standard deviation for normal data
-    return iqr if iqr > 0 else float(np.std(x))
-
-
 def looks_swapped(pv, op, sp):
     """Whether PV and OP are swapped: OP tracks the setpoint, PV does not, and the
     record reads as a controller's the other way round.
@@ -373,9 +367,9 @@ def looks_swapped(pv, op, sp):
     (False, True)
     """
     pv_off = abs(np.median(sp - pv))
-    if not pv_off > _SWAP_PV_OFF * _spread(pv):  # PV at its setpoint: most loops stop here
+    if not pv_off > _SWAP_PV_OFF * robust_spread(pv):  # PV at its setpoint: most loops stop here
         return False
-    op_spread = _spread(op)
+    op_spread = robust_spread(op)
     if not (op_spread < _SWAP_OP_SPREAD * pv_off
             and abs(np.median(sp - op)) < _SWAP_OP_NEAR * op_spread):  # fmt: skip
         return False
@@ -573,14 +567,21 @@ def clean_loops(X, *, max_gap="auto", align=True):
     import pandas as pd
 
     check_max_gap(max_gap)
-    loops, done = repaired(check_loops(X), max_gap)
+    loops, done, shifts = _repaired_in_step(check_loops(X), max_gap, align)
     # check_loops refused inf, so every loop was looked at: whole counts
     report = pd.DataFrame(done.astype(int), columns=list(GAP_COLUMNS))
-    shifts = np.zeros(len(loops), dtype=int)
-    if align:
-        loops, shifts = align_op(loops, loop_lengths(loops))
     report["op_shift"] = shifts
     return loops, report
+
+
+def _repaired_in_step(loops, max_gap, align=True):
+    """:func:`repaired`, then (with ``align``) :func:`align_op`: the loops, what the
+    repair did and the OP shifts. What :func:`clean_loops` and :func:`as_judged` read."""
+    loops, done = repaired(loops, max_gap)
+    if not align:
+        return loops, done, np.zeros(len(loops), dtype=int)
+    loops, shifts = align_op(loops, loop_lengths(loops))
+    return loops, done, shifts
 
 
 def as_judged(loops, *, training=False):
@@ -598,5 +599,4 @@ def as_judged(loops, *, training=False):
     """
     if training:
         return loops if gap_free_lengths(loops) is not None else repair_gaps(loops)[0]
-    loops = repaired(loops, "auto")[0]
-    return align_op(loops, loop_lengths(loops))[0]
+    return _repaired_in_step(loops, "auto")[0]

@@ -15,6 +15,7 @@ from sktiction.classifiers.applicability import (
     MIN_SAMPLES,
     assess_applicability,
 )
+from sktiction.cycles._signal import robust_spread
 from sktiction.datasets import make_loops, read_loops
 from sktiction.realism import loop_statistics
 from sktiction.realism.statistics import _repeat_fractions
@@ -306,9 +307,9 @@ def test_quantisation_snr_of_known_grids():
 
 def test_robust_spread():
     x = np.random.default_rng(0).normal(0, 2.0, 20000)
-    assert applicability._robust_spread(x) == pytest.approx(2.0, rel=0.03)
+    assert robust_spread(x) == pytest.approx(2.0, rel=0.03)
     mostly = np.r_[np.zeros(90), np.full(10, 10.0)]  # interquartile range 0: the sd
-    assert applicability._robust_spread(mostly) == pytest.approx(3.0)
+    assert robust_spread(mostly) == pytest.approx(3.0)
 
 
 def test_bad_input_is_refused_with_the_reason():
@@ -389,7 +390,7 @@ def test_control_error_is_a_second_pair_only_when_sp_moves():
     flat = X[0].copy()
     flat[:, 2] = sp[0]
     step = flat.copy()  # one SP step of half PV's spread: it moves, however little
-    step[750:, 2] += 0.5 * applicability._robust_spread(pv)
+    step[750:, 2] += 0.5 * robust_spread(pv)
     got = assess_applicability(np.stack([step, flat]))
     cols = ["pv_op_coherence", "coherence_ratio"]
     both = applicability._coherence([(pv, op), (step[:, 2] - pv, op)], 1500)

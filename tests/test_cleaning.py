@@ -9,7 +9,6 @@ from sktiction import clean_loops
 from sktiction._cleaning import (
     GAP_COLUMNS,
     _paired,
-    _spread,
     align_op,
     hold_step,
     looks_swapped,
@@ -19,6 +18,7 @@ from sktiction._cleaning import (
     spike_mask,
 )
 from sktiction._validation import check_loops, loop_lengths
+from sktiction.cycles._signal import robust_spread
 from sktiction.datasets import make_loops
 from sktiction.reports.scan import scan_loops
 
@@ -402,8 +402,9 @@ def test_a_swap_is_read_from_the_controller_not_from_values_that_happen_to_agree
                    zip(X, loop_lengths(X)))  # fmt: skip
     # PV off its setpoint while OP sits at the setpoint's value by chance: not a swap
     pv, op, sp = _p_only_level()
-    pv_off, op_spread = abs(np.median(sp - pv)), _spread(op)  # the values agree with a swap
-    assert pv_off > 2 * _spread(pv) and abs(np.median(sp - op)) < 0.5 * op_spread < pv_off / 8
+    pv_off, op_spread = abs(np.median(sp - pv)), robust_spread(op)  # values agree with a swap
+    assert pv_off > 2 * robust_spread(pv)
+    assert abs(np.median(sp - op)) < 0.5 * op_spread < pv_off / 8
     assert not looks_swapped(pv, op, sp)
     rng = np.random.default_rng(1)
     manual = np.full(2000, 50.0)  # in manual at a round 50 %, the level drifting above SP

@@ -50,7 +50,7 @@ import pandas as pd
 from numpy.lib.stride_tricks import sliding_window_view
 
 from .._validation import OP, PV, SP, STATUS_EMPTY, STATUS_NAN_GAP, STATUS_OK, STATUS_TOO_SHORT
-from ..cycles._signal import fast_percentile
+from ..cycles._signal import fast_percentile, robust_spread
 from ..realism.statistics import _repeat_fractions
 
 __all__ = [
@@ -130,16 +130,6 @@ def _as_loops(X):
         pad = np.full((n_loops, n_samples, 3 - n_channels), np.nan)
         arr = np.concatenate([arr, pad], axis=2)
     return arr
-
-
-def _robust_spread(x):
-    """Interquartile range as a standard deviation; the sd when most samples share a value."""
-    # fast_percentile: np.percentile's numbers (a zero's sign aside, lost in the spread)
-    q1, q3 = fast_percentile(x, [25, 75])
-    spread = (q3 - q1) / 1.349
-    if not spread > 0:
-        spread = np.std(x)
-    return float(spread)
 
 
 def _normalise(x, spread):
@@ -251,7 +241,7 @@ def _prepare(x):
     if (op == op[0]).all():
         return REASON_CONSTANT_OP, None
     with np.errstate(over="ignore", invalid="ignore"):
-        pv_spread, op_spread = _robust_spread(pv), _robust_spread(op)
+        pv_spread, op_spread = robust_spread(pv), robust_spread(op)
         if not (np.isfinite(pv_spread) and np.isfinite(op_spread)):
             return REASON_NOT_FINITE, None
         centre = np.median(pv)
