@@ -174,8 +174,10 @@ def _record(x, ts, quant, band):
     return x
 
 
-def make_independent_loops(n_loops, n_sec, random_state=0):
-    """Loops (n_loops, n_samples, 3), labels and a table of what each loop is."""
+def make_independent_loops(n_loops, n_sec, random_state=0, warmup=1500):
+    """Loops (n_loops, n_samples, 3), labels and a table of what each loop is. The first
+    ``warmup`` seconds settle each loop and are not kept (0: recorded from rest, with the
+    start-up transient; another value than 1500 also draws other loops)."""
     rng = np.random.default_rng(random_state)
     rows, series = [], []
     for k in range(n_loops):
@@ -216,11 +218,11 @@ def make_independent_loops(n_loops, n_sec, random_state=0):
         walk_sd = unit * 0.02 if cause == "random_walk_load" else 0.0
         sp_step = unit * rng.uniform(-3, 3) if rng.random() < 0.3 else 0.0
         pv, op, sp = _run(
-            n_sec, 1500, plant, K, tau, tau2, delay, kc, ti, sticky, fs, fc, rng.uniform(2, 8),
+            n_sec, warmup, plant, K, tau, tau2, delay, kc, ti, sticky, fs, fc, rng.uniform(2, 8),
             rng.uniform(0.5, 1.0), act_tau, noise_sd, load_sd, rng.uniform(0.5, 0.95),
             unit * rng.uniform(1, 5) * rng.choice([-1, 1]),
             sine_amp, period, walk_sd, sp_step, tf,
-            rng.standard_normal((n_sec + 1500, 3)),
+            rng.standard_normal((n_sec + warmup, 3)),
         )  # fmt: skip
         ts = int(rng.choice([1, 2, 5]))
         quant = 0.1 * noise_sd * rng.uniform(1, 5) if rng.random() < 0.3 else 0.0

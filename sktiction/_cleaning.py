@@ -20,6 +20,10 @@ and by every classifier (:func:`as_judged`).
   seen, now and one sample before; OP one row early, reacting to an error one row ahead,
   made the PV-OP coupling test call 15-27 % of loops "unrelated" and blurred the valve
   fits. OP is moved back in line where its increments fit a controller's clearly better.
+- **A start-up transient**: a simulator started from rest, or a record that begins as a
+  loop settles after a trip, opens with an excursion far outside anything the rest of
+  the record does, decaying within its first rows. Healthy loops read as sticky through
+  it (a second simulator recorded from t = 0: 0.83 -> 0.75); its rows are dropped.
 - **Gaps**: NaN inside a record, bridged when short; past a long one the longest stretch
   is kept (:func:`~sktiction._validation.repair_gaps`).
 """
@@ -429,6 +433,79 @@ def align_op(loops, lengths):
     return out, shifts
 
 
+#: Share of a record searched for a start-up transient; the rest sets the record's range.
+STARTUP_HEAD = 0.2
+#: The transient's rows: beyond the rest's 0.5-99.5 % range by more than this share of it.
+_STARTUP_OUT = 0.5
+#: ... reaching beyond it by more than the whole range at least once,
+_STARTUP_PEAK = 1.0
+#: ... starting within this share of the record and over within the next.
+_STARTUP_BEGINS, _STARTUP_ENDS = 0.03, 0.05
+#: Most rows dropped, as a share of the record.
+MAX_STARTUP_SHARE = 0.1
+
+
+def startup_rows(loop, n):
+    """Rows of a start-up transient at the beginning of ``loop`` (first ``n`` rows), or 0.
+
+    A transient is a PV or OP excursion beyond the range the record keeps after its
+    first fifth (0.5-99.5 %) by more than half that range, reaching more than a whole
+    range beyond it, which begins in the first 3 % of the rows and is over by 5 %. Twice
+    its rows are dropped (the tail settles inside the range), at most a tenth of the
+    record. Rows across which the setpoint moves by more than half PV's range are a
+    setpoint response, which is operation, and are kept.
+    """
+    head = int(STARTUP_HEAD * n)
+    if head < 10:
+        return 0
+    last, pv_range = -1, np.nan
+    for c in (0, 1):
+        x = loop[:n, c]
+        if not np.isfinite(x).all():
+            return 0
+        lo, hi = fast_percentile(x[head:], [0.5, 99.5])
+        if c == 0:
+            pv_range = hi - lo
+        if not hi > lo:
+            continue
+        excess = np.maximum(lo - x[:head], x[:head] - hi) / (hi - lo)
+        out = np.flatnonzero(excess > _STARTUP_OUT)
+        if (out.size and out[0] <= _STARTUP_BEGINS * n and out[-1] <= _STARTUP_ENDS * n
+                and excess.max() > _STARTUP_PEAK):  # fmt: skip
+            last = max(last, int(out[-1]))
+    if last < 0:
+        return 0
+    rows = min(2 * (last + 1), int(MAX_STARTUP_SHARE * n))
+    sp = loop[: rows + 1, 2]
+    if np.isfinite(sp).any() and np.nanmax(sp) - np.nanmin(sp) > 0.5 * pv_range:
+        return 0
+    return rows
+
+
+def drop_startup(loops, lengths):
+    """``loops`` without the rows of their start-up transients (:func:`startup_rows`),
+    and those rows per loop. A new array when any loop changes; ``loops`` is left as is."""
+    rows = np.array([startup_rows(loops[i], int(n)) for i, n in enumerate(lengths)])
+    if not rows.any():
+        return loops, rows
+    out = np.array(loops, dtype=float)
+    for i in np.flatnonzero(rows):
+        put_record(out, i, loops[i, rows[i] : int(lengths[i])])
+    return out, rows
+
+
+def in_step(loops, align=True):
+    """Checked, repaired ``loops`` without start-up transients (:func:`drop_startup`),
+    then with OP in line with PV (:func:`align_op`; not without ``align``): the loops,
+    the rows dropped and the OP shifts. The last steps of reading a loop, shared by
+    scans and classifiers."""
+    loops, startup = drop_startup(loops, loop_lengths(loops))
+    if not align:
+        return loops, startup, np.zeros(len(loops), dtype=int)
+    loops, shifts = align_op(loops, loop_lengths(loops))
+    return loops, startup, shifts
+
+
 #: What input repair (:func:`repaired`) reports per loop: gap repair's
 #: (:func:`~sktiction._validation.repair_gaps`; ``kept_start``, ``kept_stop`` index the
 #: input's rows), spike samples replaced, rows per stored value (a regular hold undone)
@@ -514,7 +591,11 @@ def clean_loops(X, *, max_gap="auto", align=True):
     2. spikes of 1-3 samples replaced by a straight line;
     3. placeholders for missing data written as numbers (-9999 for a stretch) read as gaps;
     4. short gaps bridged and, past a long one, the longest stretch kept;
-    5. with ``align``, OP moved one row back in line with PV where its increments fit a
+    5. a start-up transient dropped: an excursion of PV or OP at the record's start,
+       beyond its later range by more than that range and over within the first 5 % of
+       the rows, as in a simulator started from rest (at most a tenth of the record;
+       never a setpoint response);
+    6. with ``align``, OP moved one row back in line with PV where its increments fit a
        controller's clearly better that way. One row at most: an OP one row out of step
        is moved back, and a second call leaves it; one two or more rows out is not
        reliably aligned.
@@ -533,7 +614,7 @@ def clean_loops(X, *, max_gap="auto", align=True):
         kept); ``"auto"`` as :func:`sktiction.reports.scan_loops` reads it: per loop, a gap
         whose bridge spans at most 1/16 of PV's period, at most 5 % of the record.
     align : bool, default=True
-        Move OP in line with PV (step 5).
+        Move OP in line with PV (step 6).
 
     Returns
     -------
@@ -545,7 +626,8 @@ def clean_loops(X, *, max_gap="auto", align=True):
         ``kept_stop`` (the stretch gap repair kept, in ``X``'s rows; moving OP leaves
         out one more row at one end), ``n_spikes`` (samples
         replaced, all channels), ``rows_per_value`` (``k``; 1 when nothing was held),
-        ``n_placeholders`` and ``op_shift`` (rows OP was moved; 0 when not).
+        ``n_placeholders``, ``startup_rows`` (rows of a start-up transient dropped
+        from the start; 0 when none) and ``op_shift`` (rows OP was moved; 0 when not).
 
     Raises
     ------
@@ -567,21 +649,21 @@ def clean_loops(X, *, max_gap="auto", align=True):
     import pandas as pd
 
     check_max_gap(max_gap)
-    loops, done, shifts = _repaired_in_step(check_loops(X), max_gap, align)
+    loops, done, startup, shifts = _repaired_in_step(check_loops(X), max_gap, align)
     # check_loops refused inf, so every loop was looked at: whole counts
     report = pd.DataFrame(done.astype(int), columns=list(GAP_COLUMNS))
+    report["startup_rows"] = startup
     report["op_shift"] = shifts
     return loops, report
 
 
 def _repaired_in_step(loops, max_gap, align=True):
-    """:func:`repaired`, then (with ``align``) :func:`align_op`: the loops, what the
-    repair did and the OP shifts. What :func:`clean_loops` and :func:`as_judged` read."""
+    """:func:`repaired`, then :func:`in_step` (without ``align``, OP stays where it is):
+    the loops, what the repair did, the start-up rows dropped and the OP shifts. What
+    :func:`clean_loops` and :func:`as_judged` read."""
     loops, done = repaired(loops, max_gap)
-    if not align:
-        return loops, done, np.zeros(len(loops), dtype=int)
-    loops, shifts = align_op(loops, loop_lengths(loops))
-    return loops, done, shifts
+    loops, startup, shifts = in_step(loops, align)
+    return loops, done, startup, shifts
 
 
 def as_judged(loops, *, training=False):
@@ -590,8 +672,8 @@ def as_judged(loops, *, training=False):
     :func:`repaired` with ``max_gap="auto"`` (a regular hold read one row in k, spikes
     replaced, placeholders read as gaps, short gaps bridged and, past a long one, the
     longest stretch kept: two glitches per loop had left the learned model 4 % of its
-    verdicts, one lost sample a loop its verdict), then each OP moved in line with its PV
-    (:func:`align_op`). ``loops`` itself is left as it is.
+    verdicts, one lost sample a loop its verdict), then a start-up transient dropped and
+    each OP moved in line with its PV (:func:`in_step`). ``loops`` itself is left as it is.
 
     With ``training``, only gaps are repaired: simulated training loops are read as made.
     In the default model's 1,420 the spike rule finds a spike in 7 and the alignment would

@@ -10,12 +10,14 @@ from sktiction._cleaning import (
     GAP_COLUMNS,
     _paired,
     align_op,
+    drop_startup,
     hold_step,
     looks_swapped,
     placeholder_mask,
     remove_spikes,
     repaired,
     spike_mask,
+    startup_rows,
 )
 from sktiction._validation import check_loops, loop_lengths
 from sktiction.cycles._signal import robust_spread
@@ -348,7 +350,7 @@ def test_clean_loops_undoes_every_artefact_hidden_at_once_and_a_second_pass_find
     stored[:, 400:402] = np.nan
     dirty = np.repeat(stored, 3, axis=1)
     loops, report = clean_loops(dirty, max_gap=5)  # in rows as stored
-    assert report.columns.tolist() == [*GAP_COLUMNS, "op_shift"]
+    assert report.columns.tolist() == [*GAP_COLUMNS, "startup_rows", "op_shift"]
     assert (report["rows_per_value"] == 3).all()
     # a fast flat-topped cycle jumps too often for a spike to stand out
     assert (report["n_spikes"] == 1).mean() >= 0.9
@@ -363,7 +365,8 @@ def test_clean_loops_undoes_every_artefact_hidden_at_once_and_a_second_pass_find
         np.testing.assert_array_equal(loops[i, :n, :2][::100], X[i, 231 : 231 + n, :2][::100])
     again, report2 = clean_loops(loops)
     np.testing.assert_array_equal(again, loops)
-    assert (report2[["n_bridged", "n_gaps_split", "n_spikes", "n_placeholders", "op_shift"]]
+    assert (report2[["n_bridged", "n_gaps_split", "n_spikes", "n_placeholders", "startup_rows",
+                     "op_shift"]]
             == 0).all().all() and (report2["rows_per_value"] == 1).all()  # fmt: skip
 
 
@@ -411,3 +414,58 @@ def test_a_swap_is_read_from_the_controller_not_from_values_that_happen_to_agree
     manual[rng.choice(2000, 40, replace=False)] += 0.5
     level = 65 + 3 * np.sin(np.arange(2000) / 400) + rng.normal(0, 0.3, 2000)
     assert not looks_swapped(level, manual, np.full(2000, 50.0))
+
+
+def _started_from_rest(X, seed, sp_moves=False):
+    """Loops with a start-up transient: PV and OP begin 2-5 times their later range away
+    and decay back at a time constant of 0.4-1 % of the record; with ``sp_moves`` the
+    setpoint steps by PV's range as it begins (a setpoint response, which is operation)."""
+    rng = np.random.default_rng(seed)
+    X = check_loops(X).copy()
+    taus = np.zeros(len(X))
+    for i, n in enumerate(loop_lengths(X)):
+        t = np.arange(n)
+        taus[i] = tau = rng.uniform(0.004, 0.01) * n
+        for c in (0, 1):
+            width = np.ptp(X[i, n // 5 : n, c])
+            X[i, :n, c] += rng.choice([-1, 1]) * rng.uniform(2, 5) * width * np.exp(-t / tau)
+        if sp_moves:
+            X[i, 3:n, 2] += np.ptp(X[i, n // 5 : n, 0])
+    return X, taus
+
+
+def test_a_start_up_transient_hidden_in_loops_is_found_and_dropped_and_nothing_else():
+    X, _, meta = make_loops(80, n_samples=1500, random_state=31, return_meta=True)
+    X = check_loops(X)[meta["setpoint_regime"].to_numpy() == "constant"]  # SP flat: no step
+    L = loop_lengths(X)
+    assert (drop_startup(X, L)[1] == 0).mean() >= 0.95  # as recorded
+    started, taus = _started_from_rest(X, seed=31)
+    rows = np.array([startup_rows(started[i], int(n)) for i, n in enumerate(L)])
+    # found in most; a loop whose own first fifth moves beyond its later range (a slip,
+    # a load step) may hide it, and is then left as it is
+    found = rows > 0
+    assert found.mean() >= 0.9
+    # the excursion is at least twice the later range for about tau ln 2 rows, so what
+    # is dropped covers that; never more than a tenth of the record
+    assert (rows[found] >= taus[found] * np.log(2)).all() and (rows <= L // 10).all()
+    loops, report = clean_loops(started, align=False)
+    # after the historian repairs (this world records some loops with holds)
+    base = repaired(started, "auto")[0]
+    assert (report["startup_rows"] > 0).mean() >= 0.9
+    for i, (n, r) in enumerate(zip(loop_lengths(base), report["startup_rows"])):
+        np.testing.assert_array_equal(loops[i, : n - r], base[i, r:n])  # the record's own rows
+    again, report2 = clean_loops(loops, align=False)
+    assert (report2["startup_rows"] == 0).mean() >= 0.95
+    # the same excursion with the setpoint stepping as it begins is a setpoint response
+    stepped, _ = _started_from_rest(X, seed=31, sp_moves=True)
+    assert (drop_startup(stepped, L)[1] == 0).all()
+
+
+def test_a_start_up_transient_changes_few_verdicts_of_loops_that_are_scanned():
+    X, _, meta = make_loops(40, n_samples=2000, random_state=32, return_meta=True)
+    X = X[meta["setpoint_regime"].to_numpy() == "constant"]
+    started, _ = _started_from_rest(X, seed=32)
+    plain, dropped = scan_loops(X), scan_loops(started)
+    assert (dropped["startup_rows"] > 0).mean() >= 0.9
+    assert (plain["startup_rows"] == 0).mean() >= 0.9
+    assert (dropped["verdict"] == plain["verdict"]).mean() >= 0.9

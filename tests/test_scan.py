@@ -40,11 +40,13 @@ def no_gate(monkeypatch):
 
 def reference_scan(X, loop_types, learned):
     """The scan as it was before the shared pass: each classifier on its own (reference)."""
-    from sktiction._cleaning import align_op, repaired
+    from sktiction._cleaning import align_op, drop_startup, repaired
     from sktiction._validation import check_loops, loop_lengths, loop_status
 
-    # first repaired and OP in line with PV, as the scan does (a learned pipeline need not)
+    # first repaired, a start-up transient dropped and OP in line with PV, as the scan
+    # does (a learned pipeline need not)
     loops = repaired(check_loops(X), "auto")[0]
+    loops, startup = drop_startup(loops, loop_lengths(loops))
     loops, shifts = align_op(loops, loop_lengths(loops))
     ar = AreaRatioClassifier().fit(loops).diagnose(loops)
     parts = []
@@ -77,6 +79,7 @@ def reference_scan(X, loop_types, learned):
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": np.asarray(band, dtype=float),
+            "startup_rows": startup,
             "op_shift": shifts,
             "rows_per_sample": np.where(ok, 1.0, np.nan),  # a pipeline reads loops as given
             "reason": status,  # "ok" where the learned model judged the loop
@@ -92,6 +95,8 @@ def mixed_loops():
     X[4, :, 1] = np.nan  # no OP
     X[6, 1500:] = np.nan  # shorter loop
     X[8, :, 0] = 3.0  # constant PV
+    t = np.arange(X.shape[1])[:, None]  # loop 10 starts from rest: a start-up transient
+    X[10, :, :2] += 4 * np.ptp(X[10, 500:, :2], axis=0) * np.exp(-t / 15)
     types = np.array(["auto", "flow", "level", "pressure", "auto"] * 4, dtype=object)
     return X, types
 
@@ -101,6 +106,7 @@ def test_one_pass_scan_equals_the_classifiers_run_one_by_one(small_learned, no_g
     expected = reference_scan(X, types, small_learned)
     got = scan_loops(X, pd.DataFrame({"loop_type": types}), classifier=small_learned, chunk_size=7)
     assert got.loc[2, "n_bridged"] + got.loc[2, "n_gaps_split"] > 0  # its gap repaired
+    assert got.loc[10, "startup_rows"] > 0 and (got["startup_rows"] > 0).sum() == 1
     got = got.drop(columns=["loop_type", *GAP_COLUMNS])
     assert set(got["verdict"]) == {"stiction", "no_stiction", "no_verdict"}
     assert (got["n_cycles"] > 0).sum() >= 4 and got["area_ratio"].notna().sum() >= 4

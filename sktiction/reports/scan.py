@@ -18,12 +18,11 @@ import pandas as pd
 from joblib import Parallel, delayed, effective_n_jobs
 from sklearn.pipeline import FeatureUnion, Pipeline
 
-from .._cleaning import GAP_COLUMNS, align_op, repaired
+from .._cleaning import GAP_COLUMNS, in_step, repaired
 from .._validation import (
     STATUS_OK,
     check_loops,
     check_max_gap,
-    loop_lengths,
     loop_status,
 )
 from ..classifiers import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
@@ -45,6 +44,7 @@ REPORT_COLUMNS = [
     "stiction_size_mean",
     "stiction_size_max",
     "stiction_band_fit",
+    "startup_rows",
     "op_shift",
     "rows_per_sample",
     "reason",
@@ -188,7 +188,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
         rules = _Rules(loops[:1])
     if not isinstance(learned, LearnedAdapter):
         learned = LearnedAdapter(learned)
-    loops, shifts = align_op(loops, loop_lengths(loops))
+    loops, startup, shifts = in_step(loops)
     analyses = analyse_loops(loops)
     status = loop_status(loops, require_op=True, check_swap=True)
     ar = rules.area_ratio.diagnose_analysed(loops, analyses)
@@ -244,6 +244,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": band,
+            "startup_rows": startup,
             "op_shift": shifts,
             "rows_per_sample": rows,
             "reason": reason,
@@ -448,8 +449,10 @@ def scan_loops(
     (:func:`~sktiction.classifiers.applicability.assess_applicability`) rejects, with
     its reason (and then no ``stiction_probability``).
     ``shape_reason`` is the shape library's own (e.g. ``not_oscillating``: no size from
-    it). ``op_shift`` is the number of rows OP was moved to line up with PV before
-    anything else (0: as recorded; see :func:`~sktiction._cleaning.align_op`).
+    it). ``startup_rows`` is the number of rows of a start-up transient dropped from the
+    start (0: none; see :func:`~sktiction.clean_loops`), ``op_shift`` the number of rows
+    OP was moved to line up with PV before anything else (0: as recorded; see
+    :func:`~sktiction._cleaning.align_op`).
     ``rows_per_sample`` is the number of rows, as read, that the learned classifier
     averaged into one sample: 1, or more for a loop recorded much finer than its
     training loops, read in block means
