@@ -33,7 +33,13 @@ do not, here and on 600 held-out loops of its own world; "no verdict" counts as 
 stiction". Nothing here is tuned to the
 default model: the draws were fixed before the model was run on them.
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/independent_world.py [n_loops] [n_seconds]``
+With ``--pid``, only this: the same draws with derivative action added to each controller
+(``td_ratio`` 0.1 and 0.25 of the integral time, on the filtered measurement, filtered at a
+tenth of itself; nothing retuned), judged by the default model, and the share of sticky
+loops whose PV cycles.
+
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/independent_world.py [n_loops] [n_seconds]
+[--pid]``
 """
 
 from __future__ import annotations
@@ -78,10 +84,13 @@ def _run(
     walk_sd,
     sp_step,
     tf,
+    td,
     shocks,
 ):
     """One closed loop; returns PV (measured), OP and SP per second. ``shocks``: standard
-    normal draws (n_sec + warm, 3) for the load, the walk and the measurement noise."""
+    normal draws (n_sec + warm, 3) for the load, the walk and the measurement noise.
+    ``td``: derivative time (s) acting on the filtered measurement, itself filtered at
+    ``td / 10`` (0: a PI controller)."""
     pv_out, op_out, sp_out = np.empty(n_sec), np.empty(n_sec), np.empty(n_sec)
     n_all = n_sec + warm  # the first ``warm`` seconds settle the loop and are not kept
     nd = max(1, int(round(delay * SUB)))
@@ -93,7 +102,8 @@ def _run(
     load = walk = 0.0
     u = 0.0
     e_prev = 0.0
-    pv_f = 0.0  # the controller's filtered measurement (time constant tf s; 0: none)
+    pv_f = pv_f_prev = 0.0  # the controller's filtered measurement (tf s; 0: none)
+    d = d_prev = 0.0  # the derivative term
     m = 1.0 / (wn * wn)  # mass for natural frequency wn with a unit spring
     fv = 2.0 * zeta * np.sqrt(m)
     for t in range(n_all):
@@ -136,9 +146,11 @@ def _run(
         pv = y + dist + noise_sd * shocks[t, 2]
         pv_f = pv if tf < 1.0 else pv_f + (pv - pv_f) / tf
         e = sp - pv_f
-        u += kc * (e - e_prev + e / ti)  # velocity-form PI, 1 s sample
+        if td > 0.0:  # backward Euler of -td s / (1 + td s / 10) on the measurement
+            d = (td / 10.0 * d_prev - td * (pv_f - pv_f_prev)) / (td / 10.0 + 1.0)
+        u += kc * (e - e_prev + e / ti + d - d_prev)  # velocity-form PI(D), 1 s sample
         u = min(max(u, -200.0), 200.0)
-        e_prev = e
+        e_prev, d_prev, pv_f_prev = e, d, pv_f
         if t >= warm:
             pv_out[t - warm], op_out[t - warm], sp_out[t - warm] = pv, u, sp
     return pv_out, op_out, sp_out
@@ -174,10 +186,11 @@ def _record(x, ts, quant, band):
     return x
 
 
-def make_independent_loops(n_loops, n_sec, random_state=0, warmup=1500):
+def make_independent_loops(n_loops, n_sec, random_state=0, warmup=1500, td_ratio=0.0):
     """Loops (n_loops, n_samples, 3), labels and a table of what each loop is. The first
     ``warmup`` seconds settle each loop and are not kept (0: recorded from rest, with the
-    start-up transient; another value than 1500 also draws other loops)."""
+    start-up transient; another value than 1500 also draws other loops). ``td_ratio``:
+    a derivative time of that many integral times on the same draws (0: PI, as tuned)."""
     rng = np.random.default_rng(random_state)
     rows, series = [], []
     for k in range(n_loops):
@@ -221,7 +234,7 @@ def make_independent_loops(n_loops, n_sec, random_state=0, warmup=1500):
             n_sec, warmup, plant, K, tau, tau2, delay, kc, ti, sticky, fs, fc, rng.uniform(2, 8),
             rng.uniform(0.5, 1.0), act_tau, noise_sd, load_sd, rng.uniform(0.5, 0.95),
             unit * rng.uniform(1, 5) * rng.choice([-1, 1]),
-            sine_amp, period, walk_sd, sp_step, tf,
+            sine_amp, period, walk_sd, sp_step, tf, td_ratio * ti,
             rng.standard_normal((n_sec + warmup, 3)),
         )  # fmt: skip
         ts = int(rng.choice([1, 2, 5]))
@@ -354,6 +367,25 @@ def _stuck_look(model, feats, meta, yd):
     print(pd.Series(out, name="called sticky").to_string(float_format=fmt))
 
 
+def pid(n_loops=400, n_sec=6000):
+    """The default model on the same draws with PI and with PID controllers."""
+    from sktiction import pretrained_classifier
+    from sktiction.cycles import analyze_cycles
+
+    model = pretrained_classifier()
+    print("controller: balanced accuracy / recall / specificity of the default model; share "
+          "of sticky loops whose PV cycles (analyze_cycles)")
+    for ratio in (0.0, 0.1, 0.25):
+        X, y, _ = make_independent_loops(n_loops, n_sec, random_state=2026, td_ratio=ratio)
+        pred = model.diagnose(X)["prediction"].fillna(0).to_numpy(dtype=int)
+        pv = [X[i, np.isfinite(X[i, :, 0]), 0] for i in np.flatnonzero(y == 1)]
+        cycling = np.mean([analyze_cycles(x).oscillating for x in pv])
+        name = "PI" if ratio == 0 else f"PID, Td = {ratio} Ti"
+        print(f"{name:18s} {balanced_accuracy_score(y, pred):.3f} / {pred[y == 1].mean():.3f} / "
+              f"{1 - pred[y == 0].mean():.3f}; sticky PV cycling {cycling:.2f}", flush=True)
+    return 0
+
+
 if __name__ == "__main__":
-    args = [int(a) for a in sys.argv[1:3]]
-    sys.exit(main(*args))
+    args = [int(a) for a in sys.argv[1:] if not a.startswith("--")]
+    sys.exit(pid(*args) if "--pid" in sys.argv else main(*args))
