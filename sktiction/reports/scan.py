@@ -449,8 +449,8 @@ def scan_loops(
     (:func:`~sktiction.classifiers.applicability.assess_applicability`) rejects, with
     its reason (and then no ``stiction_probability``).
     ``shape_reason`` is the shape library's own (e.g. ``not_oscillating``: no size from
-    it). ``startup_rows`` is the number of rows of a start-up transient dropped from the
-    start (0: none; see :func:`~sktiction.clean_loops`), ``op_shift`` the number of rows
+    it). ``startup_rows`` is the number of rows (as read) of a start-up transient dropped
+    from the start (0: none; see :func:`~sktiction.clean_loops`), ``op_shift`` the number of rows
     OP was moved to line up with PV before anything else (0: as recorded; see
     :func:`~sktiction._cleaning.align_op`).
     ``rows_per_sample`` is the number of rows, as read, that the learned classifier
