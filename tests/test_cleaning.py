@@ -461,11 +461,55 @@ def test_a_start_up_transient_hidden_in_loops_is_found_and_dropped_and_nothing_e
     assert (drop_startup(stepped, L)[1] == 0).all()
 
 
-def test_a_start_up_transient_changes_few_verdicts_of_loops_that_are_scanned():
+def test_a_scan_reads_a_loop_started_from_rest_as_clean_loops_leaves_it():
+    # the scan drops the transient itself: scanning the loops clean_loops returns gives
+    # the same verdicts and probabilities (what the step buys is measured in
+    # benchmarks/startup_transient.py: the second simulator from rest 0.750 -> 0.807)
     X, _, meta = make_loops(40, n_samples=2000, random_state=32, return_meta=True)
     X = X[meta["setpoint_regime"].to_numpy() == "constant"]
     started, _ = _started_from_rest(X, seed=32)
-    plain, dropped = scan_loops(X), scan_loops(started)
-    assert (dropped["startup_rows"] > 0).mean() >= 0.9
-    assert (plain["startup_rows"] == 0).mean() >= 0.9
-    assert (dropped["verdict"] == plain["verdict"]).mean() >= 0.9
+    scanned = scan_loops(started)
+    assert (scanned["startup_rows"] > 0).mean() >= 0.9
+    assert (scan_loops(X)["startup_rows"] == 0).mean() >= 0.9
+    cleaned, report = clean_loops(started)
+    again = scan_loops(cleaned)
+    assert (again["startup_rows"] == 0).all()
+    np.testing.assert_array_equal(report["startup_rows"], scanned["startup_rows"])
+    assert (again["verdict"] == scanned["verdict"]).all()
+    np.testing.assert_allclose(again["stiction_probability"], scanned["stiction_probability"],
+                               rtol=1e-9)  # fmt: skip
+
+
+def _one_transient(n=2000, seed=0, rows=40, ramp=True):
+    """A stationary loop (noise around a level) whose PV and OP start 4 ranges away and
+    come back over ``rows`` rows, linearly or (``ramp=False``) all at once after them."""
+    rng = np.random.default_rng(seed)
+    loop = np.column_stack([rng.normal(0, 1, n), rng.normal(50, 1, n), np.zeros(n)])
+    loop[:rows, :2] += np.linspace(4 * 5.2, 0, rows)[:, None] if ramp else 4 * 5.2
+    return loop  # the 0.5-99.5 % range of unit noise is 5.2
+
+
+def test_start_up_rows_at_the_edges():
+    loop = _one_transient()
+    rows = startup_rows(loop, 2000)
+    assert 0 < rows <= 200
+    no_sp = loop.copy()
+    no_sp[:, 2] = np.nan  # no setpoint channel: read as a transient all the same
+    assert startup_rows(no_sp, 2000) == rows
+    no_op = loop.copy()
+    no_op[:, 1] = np.nan  # nothing to compare OP with: left alone
+    assert startup_rows(no_op, 2000) == 0
+    flat_op = loop.copy()
+    flat_op[:, 1] = 50.0  # a constant OP: PV alone decides
+    assert startup_rows(flat_op, 2000) > 0
+    assert startup_rows(loop[:40], 40) == 0  # too short to have a "rest of the record"
+    # twice the rows beyond half a range: a step back after 60 rows drops 120
+    assert startup_rows(_one_transient(rows=60, ramp=False), 2000) == 120
+    # an excursion that lasts to 5 % of the record: at most a tenth is dropped
+    assert startup_rows(_one_transient(rows=101, ramp=False), 2000) == 200
+    # one that lasts past 5 %: not a start-up transient, nothing dropped
+    assert startup_rows(_one_transient(rows=102, ramp=False), 2000) == 0
+    # a recorded setpoint step across the rows: a setpoint response, kept
+    stepped = loop.copy()
+    stepped[2:, 2] = 10.0
+    assert startup_rows(stepped, 2000) == 0

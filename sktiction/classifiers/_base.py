@@ -106,7 +106,7 @@ class LoopClassifierMixin:
 
     def _checked(self, X):
         """Loops as a scan reads them (as_judged): holds, spikes, placeholders and gaps
-        repaired, OP in step with PV."""
+        repaired, a start-up transient dropped, OP in step with PV."""
         check_is_fitted(self, "classes_")
         return as_judged(validate_loops(self, X, reset=False))
 
@@ -116,8 +116,8 @@ class LoopClassifierMixin:
         Each loop is read as the learned model and a file scan read it
         (:func:`~sktiction._cleaning.as_judged`): a regular hold read as stored, spikes
         replaced, placeholders read as gaps, short NaN gaps bridged and, past a long one,
-        the longest stretch kept; an OP recorded a row out of step with PV is moved back
-        in line.
+        the longest stretch kept; a start-up transient at the start is dropped and an OP
+        recorded a row out of step with PV is moved back in line.
 
         Parameters
         ----------

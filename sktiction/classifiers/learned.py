@@ -6,8 +6,9 @@ when the first learned model met data it had not seen:
 1. **Per-loop normalisation** (:func:`normalise_loops`): PV and SP are centred on PV's
    median and divided by PV's robust spread, OP by its own. Units, offsets and the
    size of the numbers cannot enter a feature, so a verdict never changes when a loop
-   is scaled (even by 1e12) or shifted. Before it, an OP recorded a row out of
-   step with PV is moved back in line (:func:`~sktiction._cleaning.align_op`).
+   is scaled (even by 1e12) or shifted. Before it, a start-up transient at the
+   record's start is dropped and an OP recorded a row out of step with PV is moved
+   back in line (:func:`~sktiction._cleaning.in_step`).
 2. **Features whose meaning carries over** from simulation to plants: area ratios,
    template distances, the fitted valve model and the PV-OP hysteresis
    (:class:`~sktiction.features.PVOPHysteresis`, at the period and at OP's own time
@@ -720,8 +721,8 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         Each loop is read as a file scan reads it (:func:`~sktiction._cleaning.as_judged`):
         a regular hold is read as stored (a loop held k rows per value becomes k times
         shorter), spikes are replaced, placeholders read as gaps, short NaN gaps bridged
-        and, past a long one, the longest stretch kept; an OP recorded a row out of step
-        with PV is moved back in line.
+        and, past a long one, the longest stretch kept; a start-up transient at the start
+        is dropped and an OP recorded a row out of step with PV is moved back in line.
 
         Parameters
         ----------
