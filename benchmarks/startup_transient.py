@@ -9,7 +9,9 @@ rest (``warmup=0``) or after 200 s, its healthy loops read as sticky much more o
 default model with the transient dropped (:func:`sktiction._cleaning.drop_startup`, in every
 classifier and scan) and without (the same model, the step switched off), in this one run;
 "no verdict" counts as "no stiction". Also printed: the share of loops whose start was
-dropped and how many verdicts changed. As recorded (the first row of each world and the
+dropped, how many verdicts changed, the healthy loops called sticky per cause, and for the
+second simulator from rest the verdicts of a scan (``scan_loops``, whose applicability gate
+has its own say) and of the two rules. As recorded (the first row of each world and the
 measured windows), no loop should be touched. The rule's limits were set on the default
 world as recorded and the second simulator as recorded, before it was run on the others.
 
@@ -41,6 +43,19 @@ def predictions(model, X):
     finally:
         _cleaning.drop_startup = step
     return before, model.diagnose(X)["prediction"].fillna(0).to_numpy(dtype=int)
+
+
+def scanned(X):
+    """Stiction verdicts of ``scan_loops`` without and with the start-up step."""
+    from sktiction.reports import scan_loops
+
+    step = _cleaning.drop_startup
+    _cleaning.drop_startup = lambda loops, lengths: (loops, np.zeros(len(loops), int))
+    try:
+        before = scan_loops(X)["verdict"].eq("stiction").to_numpy(dtype=int)
+    finally:
+        _cleaning.drop_startup = step
+    return before, scan_loops(X)["verdict"].eq("stiction").to_numpy(dtype=int)
 
 
 def per_valve(groups, y, pred):
@@ -90,6 +105,9 @@ def main():
         if causes is not None:
             print(f"    healthy loops called sticky: {by_cause(causes, y, before, after)}")
     X, y, _ = make_independent_loops(N_LOOPS, 6000, random_state=2026, warmup=0)
+    before, after = scanned(X)
+    print(f"second simulator, warm-up 0 s, scan_loops (with its applicability gate): "
+          f"{balanced_accuracy_score(y, before):.3f} -> {balanced_accuracy_score(y, after):.3f}")
     for rule in (AreaRatioClassifier(), ShapeLibraryClassifier()):
         before, after = (balanced_accuracy_score(y, p) for p in predictions(rule.fit(X), X))
         print(f"second simulator, warm-up 0 s, {type(rule).__name__}: {before:.3f} -> {after:.3f}")
