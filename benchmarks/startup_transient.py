@@ -34,28 +34,27 @@ from sktiction.datasets import make_loops
 N_LOOPS = int(sys.argv[1]) if len(sys.argv) > 1 else 400
 
 
-def predictions(model, X):
-    """Verdicts without and with the start-up step, the same model."""
+def off_and_on(verdicts):
+    """``verdicts()`` with the start-up step switched off, then on (the same model)."""
     step = _cleaning.drop_startup
     _cleaning.drop_startup = lambda loops, lengths: (loops, np.zeros(len(loops), int))
     try:
-        before = model.diagnose(X)["prediction"].fillna(0).to_numpy(dtype=int)
+        before = verdicts()
     finally:
         _cleaning.drop_startup = step
-    return before, model.diagnose(X)["prediction"].fillna(0).to_numpy(dtype=int)
+    return before, verdicts()
+
+
+def predictions(model, X):
+    """The model's verdicts without and with the start-up step."""
+    return off_and_on(lambda: model.diagnose(X)["prediction"].fillna(0).to_numpy(dtype=int))
 
 
 def scanned(X):
     """Stiction verdicts of ``scan_loops`` without and with the start-up step."""
     from sktiction.reports import scan_loops
 
-    step = _cleaning.drop_startup
-    _cleaning.drop_startup = lambda loops, lengths: (loops, np.zeros(len(loops), int))
-    try:
-        before = scan_loops(X)["verdict"].eq("stiction").to_numpy(dtype=int)
-    finally:
-        _cleaning.drop_startup = step
-    return before, scan_loops(X)["verdict"].eq("stiction").to_numpy(dtype=int)
+    return off_and_on(lambda: scan_loops(X)["verdict"].eq("stiction").to_numpy(dtype=int))
 
 
 def per_valve(groups, y, pred):

@@ -505,10 +505,12 @@ def in_step(loops, align=True):
     then with OP in line with PV (:func:`align_op`; not without ``align``): the loops,
     the rows dropped and the OP shifts. The last steps of reading a loop, shared by
     scans and classifiers."""
-    loops, startup = drop_startup(loops, loop_lengths(loops))
+    lengths = loop_lengths(loops)
+    loops, startup = drop_startup(loops, lengths)
     if not align:
         return loops, startup, np.zeros(len(loops), dtype=int)
-    loops, shifts = align_op(loops, loop_lengths(loops))
+    # a loop whose start was dropped had PV on every row: it is that much shorter
+    loops, shifts = align_op(loops, lengths - startup)
     return loops, startup, shifts
 
 
