@@ -8,10 +8,15 @@ import pytest
 from sktiction import clean_loops
 from sktiction._cleaning import (
     GAP_COLUMNS,
+    IMPLAUSIBLE,
+    _controller_r2,
     _paired,
+    _spike_limit,
     align_op,
+    as_judged,
     drop_startup,
     hold_step,
+    in_step,
     looks_swapped,
     placeholder_mask,
     remove_spikes,
@@ -19,7 +24,7 @@ from sktiction._cleaning import (
     spike_mask,
     startup_rows,
 )
-from sktiction._validation import check_loops, loop_lengths
+from sktiction._validation import check_loops, loop_lengths, repair_gaps
 from sktiction.cycles._signal import robust_spread
 from sktiction.datasets import make_loops
 from sktiction.reports.scan import scan_loops
@@ -513,3 +518,180 @@ def test_start_up_rows_at_the_edges():
     stepped = loop.copy()
     stepped[2:, 2] = 10.0
     assert startup_rows(stepped, 2000) == 0
+
+
+# --- Mutation-testing gaps (benchmarks/mutation.py on _cleaning.py, sample 120, seed 0) ---
+
+
+def test_the_spike_limit_is_at_least_six_tenths_of_the_five_to_95_percent_spread():
+    """On a ramp of unit steps the steps' scale is small (limit 6 x 1.4826 x 1), so the
+    spread term decides: 0.6 x (95th - 5th percentile) = 0.6 x (950 - 50)."""
+    x = np.arange(1001.0)
+    x[500] += 100.0  # one jump larger than the steps' limit: the spread is computed
+    assert _spike_limit(x, np.diff(x)) == pytest.approx(0.6 * 900.0)
+    assert _spike_limit(np.arange(1001.0), np.ones(1000)) == np.inf  # no step stands out
+
+
+@pytest.mark.parametrize("width", [1, 2, 3])
+def test_a_spike_just_before_the_last_sample_is_found(width):
+    """The last sample is the spike's right-hand neighbour: enough to tell it."""
+    x = _sine() + 100.0
+    x[-1 - width : -1] = 0.0
+    assert np.flatnonzero(spike_mask(x)).tolist() == list(range(599 - width, 599))
+
+
+def test_a_slip_with_a_one_sample_overshoot_is_not_a_spike():
+    """Up by more than the limit, then back by less than it: the signal stays where it
+    went (0.4 limits higher), a step with an overshoot, not a jump away and back."""
+    x = np.sin(2 * np.pi * np.arange(1000) / 100)
+    x[925] += 1.6  # at a peak of the sine, where it is flat
+    x[926:] += 0.5
+    d, limit = np.diff(x), _spike_limit(x, np.diff(x))
+    # the shape the rule must refuse: away > limit, back within (0.75, 1) limit, after
+    # within half a limit of before, the top over a limit from their mean
+    assert d[924] > limit and 0.75 * limit < -d[925] < limit
+    assert abs(x[926] - x[924]) <= limit / 2 and x[925] - (x[924] + x[926]) / 2 > limit
+    assert not spike_mask(x).any()
+    x[926:] -= 0.5  # the same jump coming straight back: a spike
+    assert np.flatnonzero(spike_mask(x)).tolist() == [925]
+
+
+def test_at_most_three_spike_samples_on_a_record_shorter_than_300():
+    """The share cap is 1 % of the record but at least 3 samples: on 200 samples three
+    lone "Bad" values are spikes, a fourth makes them the signal's own (none removed)."""
+    x = _sine(n=200) + 100.0
+    three = x.copy()
+    three[[40, 80, 120]] = 0.0
+    assert np.flatnonzero(spike_mask(three)).tolist() == [40, 80, 120]
+    four = x.copy()
+    four[[40, 80, 120, 160]] = 0.0
+    assert not spike_mask(four).any()
+
+
+def test_single_codes_codes_near_zero_and_the_implausible_bound():
+    x = 50 + np.sin(np.arange(300) / 10.0)
+    first = x.copy()
+    first[0] = 9999.0  # a "Bad" first row: no neighbour before it, so no spike rule
+    assert np.flatnonzero(placeholder_mask(first)).tolist() == [0]
+    # a signal near zero (a differential pressure) with -1 for no data: -1 is more than
+    # ten times the others' range and their distance from zero away
+    rng = np.random.default_rng(0)
+    near_zero = rng.normal(0, 0.001, 1000)
+    near_zero[300:320] = -1.0
+    assert np.flatnonzero(placeholder_mask(near_zero)).tolist() == list(range(300, 320))
+    # "beyond IMPLAUSIBLE": a record at it is not a placeholder, one past it is
+    assert not placeholder_mask(np.full(100, IMPLAUSIBLE)).any()
+    assert placeholder_mask(np.full(100, 2 * IMPLAUSIBLE)).all()
+
+
+def test_few_changes_are_no_grid_and_the_kept_stretch_is_in_the_input_rows():
+    """Ten levels (9 changes, fewer than MIN_HOLD_CHANGES): no hold, (1, 0); a long gap
+    then cut at row 200, which is where the kept stretch starts in the input."""
+    levels = np.column_stack([np.repeat(np.arange(10.0), 50), np.repeat(np.arange(10.0), 50) * 2,
+                              np.full(500, np.nan)])  # fmt: skip
+    assert hold_step(levels, 500) == (1, 0)
+    levels[100:200] = np.nan  # 100 rows: too long to bridge at max_gap=5
+    fixed, gaps = repaired(levels[None], 5)
+    report = dict(zip(GAP_COLUMNS, gaps[0]))
+    assert report["rows_per_value"] == 1 and report["n_gaps_split"] == 1
+    assert (report["kept_start"], report["kept_stop"]) == (200, 500)
+    np.testing.assert_array_equal(fixed[0, :300, :2], levels[200:, :2])
+
+
+def test_controller_fit_is_nan_on_too_few_rows_or_an_op_that_never_moves():
+    rng = np.random.default_rng(0)
+    err = rng.normal(size=200)
+    op = np.cumsum(0.5 * err)  # a pure I controller on SP - PV = err: R^2 = 1
+    pv, sp = -err, np.zeros(200)
+    assert _controller_r2(pv, op, sp, True) == pytest.approx(1.0)
+    assert np.isnan(_controller_r2(pv[:10], op[:10], sp[:10], True))  # 9 increments
+    assert np.isnan(_controller_r2(pv, np.full(200, 30.0), sp, True))  # nothing to explain
+
+
+def test_a_start_up_excursion_must_reach_more_than_a_whole_range_beyond():
+    """PV alternates 0 and 1 after its first rows (0.5-99.5 % range exactly [0, 1]): 40
+    rows at 2 reach exactly one range beyond, which is not more than one; a hair above is
+    a transient (twice its 40 rows dropped). A single first row far out is one too."""
+    n = 2000
+    loop = np.column_stack([(np.arange(n) % 2).astype(float), np.full(n, 50.0), np.zeros(n)])
+    at = loop.copy()
+    at[:40, 0] = 2.0
+    assert startup_rows(at, n) == 0
+    above = loop.copy()
+    above[:40, 0] = 2.0 + 1e-9
+    assert startup_rows(above, n) == 80
+    first = loop.copy()
+    first[0, 0] = 10.0
+    assert startup_rows(first, n) == 2
+    # a setpoint moving by exactly half PV's range is not "more than half": dropped
+    half = loop.copy()
+    half[:40, 0] = 3.0
+    half[10:, 2] = 0.5
+    assert startup_rows(half, n) == 80
+    half[10:, 2] = 0.5 + 1e-9
+    assert startup_rows(half, n) == 0
+
+
+def test_the_start_up_range_is_the_rest_s_half_to_99_5_percent():
+    """1 % of the rest at -1 sets its 0.5 % point (range [-1, 1], 2 wide): 40 rows at 2.6
+    reach 0.8 ranges beyond it (no transient), at 3.2 they reach 1.1 (80 rows dropped).
+    A range read from a higher percentile (about [0, 1]) would take both for transients."""
+    n = 2000
+    rest = (np.arange(n) % 2).astype(float)
+    rest[400::100] = -1.0  # 16 of the 1600 rows after the head
+    loop = np.column_stack([rest, np.full(n, 50.0), np.zeros(n)])
+    loop[:40, 0] = 2.6
+    assert startup_rows(loop, n) == 0
+    loop[:40, 0] = 3.2
+    assert startup_rows(loop, n) == 80
+
+
+def test_the_report_holds_whole_counts_and_nan_where_nothing_was_looked_at():
+    X = check_loops(make_loops(3, n_samples=400, random_state=25)[0])
+    shifts = in_step(X, align=False)[2]
+    assert shifts.dtype.kind == "i" and not shifts.any()
+    for align in (True, False):  # counts and rows: integers, with or without moving OP
+        report = clean_loops(X, align=align)[1]
+        assert all(report[c].dtype.kind == "i" for c in report.columns)
+    held = X.copy()
+    held[1, 5, 0] = np.inf  # not looked at: inf, or not usable
+    gaps = repaired(held, "auto", usable=np.array([True, True, False]))[1]
+    assert gaps.dtype == float and np.isnan(gaps[1:]).all() and not np.isnan(gaps[0]).any()
+
+
+@pytest.mark.parametrize("levels", [7, 8])
+def test_one_channel_on_a_grid_needs_at_least_eight_values(levels):
+    """OP held 3 rows beside a PV that moves every row, cycling through ``levels``
+    values: read at OP's rows with _MIN_LEVELS (8) values, not with fewer."""
+    op = np.repeat(np.arange(200) % levels, 3).astype(float)
+    rng = np.random.default_rng(0)
+    loop = np.column_stack([rng.normal(size=600), op, np.full(600, np.nan)])
+    assert hold_step(loop, 600) == ((3, 0) if levels >= 8 else (1, 0))
+
+
+@pytest.mark.parametrize("k", [1, 2])
+def test_repaired_fills_absent_channels_with_nan(k):
+    """A PV-only or PV-OP record (a stream's chunk as read) comes back with three
+    channels, the absent ones NaN, and the present ones repaired as in full loops."""
+    X = check_loops(make_loops(3, n_samples=600, world="classic", random_state=5)[0])
+    X[:, 300, 0] = -9999.0
+    fixed, gaps = repaired(X[:, :, :k], "auto")
+    assert fixed.shape == X.shape and np.isnan(fixed[:, :, k:]).all()
+    np.testing.assert_array_equal(fixed[:, :, :k], repaired(X, "auto")[0][:, :, :k])
+    assert (gaps[:, GAP_COLUMNS.index("n_spikes")] == 1).all()
+
+
+def test_as_judged_reads_loops_as_clean_loops_and_training_repairs_gaps_only():
+    """A classifier reads what clean_loops returns (its docstring says so); in training
+    only gaps are repaired: a spike stays, a gap-free loop is returned as it is."""
+    X = check_loops(make_loops(3, n_samples=600, world="classic", random_state=5)[0])
+    dirty = X.copy()
+    dirty[:, 300, 0] = -9999.0
+    dirty[:, 100:102] = np.nan  # a 2-row gap
+    before = dirty.copy()
+    np.testing.assert_array_equal(as_judged(dirty), clean_loops(dirty)[0])
+    np.testing.assert_array_equal(dirty, before)  # left as it is
+    trained = as_judged(dirty, training=True)
+    np.testing.assert_array_equal(trained, repair_gaps(dirty)[0])
+    assert not np.isnan(trained[:, :100]).any() and (trained == -9999.0).sum() == 3
+    assert as_judged(X, training=True) is X

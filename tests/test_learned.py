@@ -1,6 +1,7 @@
 """The learned classifier: no verdict on garbage, scale and offset invariance, calibrated
 probabilities, the domain check, hysteresis features and the model cache."""
 
+import copy
 import json
 import os
 import subprocess
@@ -12,6 +13,8 @@ import pytest
 from sklearn.metrics import roc_auc_score
 from sklearn.model_selection import cross_val_score
 
+from sktiction._cleaning import as_judged
+from sktiction._validation import check_loops, loop_lengths
 from sktiction.classifiers import LearnedStictionClassifier
 from sktiction.classifiers import _persistence as persistence
 from sktiction.classifiers import learned as learned_module
@@ -149,6 +152,57 @@ def test_out_of_domain_names_the_feature(small_model):
     hit = report["reason"] == "out_of_domain:hysteresis__hysteresis_fill"
     assert hit.sum() >= 10
     assert report.loc[hit, "probability"].isna().all() and not report.loc[hit, "in_domain"].any()
+
+
+# ---- long records: judged in windows --------------------------------------------------
+
+
+def test_a_long_record_gets_the_mean_probability_of_its_windows(small_model):
+    X, _ = make_loops(8, n_samples=2611, world="classic", random_state=SEED + 7)
+    X[::2, 1300:] = np.nan  # every other loop is short: judged whole, in its place
+    clf = copy.deepcopy(small_model).set_params(window=600, long_record=1500)
+    whole = copy.deepcopy(small_model).set_params(long_record=None)
+    got = clf.diagnose(X)
+    loops = as_judged(check_loops(X))  # what diagnose reads, then cuts
+    for i, n in enumerate(loop_lengths(loops)):
+        if n <= 1500:
+            expected = whole.diagnose(X[i : i + 1])
+            assert got.loc[i, "probability"] == pytest.approx(expected.loc[0, "probability"])
+            continue
+        k = n // 600  # 2,611 samples: 4 windows of 652 (3 left over), each read as a record
+        windows = np.stack([loops[i, j * (n // k) : (j + 1) * (n // k)] for j in range(k)])
+        parts = whole.diagnose(windows)
+        assert k == 4 and parts["in_domain"].any()
+        p = parts.loc[parts["in_domain"], "probability"].mean()
+        assert got.loc[i, "probability"] == pytest.approx(p, abs=1e-12)
+        assert got.loc[i, "prediction"] == int(p >= 0.5) and got.loc[i, "reason"] == "ok"
+    # read whole, the long records give other probabilities: the rule is not a no-op
+    long = loop_lengths(loops) > 1500
+    assert long.sum() == 4
+    before = whole.diagnose(X)["probability"].to_numpy()[long]
+    assert not np.allclose(got["probability"].to_numpy()[long], before, equal_nan=True)
+
+
+def test_a_long_record_that_cannot_be_judged_keeps_its_reason(small_model):
+    X, _ = make_loops(3, n_samples=2600, world="classic", random_state=SEED + 8)
+    X[0, :, 1] = 40.0  # OP never moves
+    X[1, :, 1] = np.nan  # no OP
+    clf = copy.deepcopy(small_model).set_params(window=600, long_record=1500)
+    report = clf.diagnose(X)
+    assert report["reason"].tolist()[:2] == ["constant", "missing_op"]
+    assert report["probability"].iloc[:2].isna().all() and not report["in_domain"].iloc[:2].any()
+    assert report.loc[2, "reason"] == "ok" and np.isfinite(report.loc[2, "probability"])
+
+
+@pytest.mark.parametrize(
+    "params, match",
+    [({"window": 100}, "window"), ({"window": 1000.5}, "window"),
+     ({"window": 3000, "long_record": 5999}, "long_record")],
+)  # fmt: skip
+def test_bad_window_parameters_raise(params, match):
+    X, y = make_loops(20, n_samples=600, random_state=SEED + 6)
+    with pytest.raises(ValueError, match=match):
+        LearnedStictionClassifier(**params).fit(X, y)
 
 
 def test_string_labels_and_cross_validation():

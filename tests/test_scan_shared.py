@@ -7,10 +7,12 @@ the same verdicts, and the same probabilities except where a decision inside a c
 analysis sits exactly on its threshold (quantised records), where rounding decides.
 """
 
+import copy
+
 import numpy as np
 import pytest
 
-from sktiction._cleaning import align_op
+from sktiction._cleaning import align_op, as_judged
 from sktiction._validation import check_loops, loop_lengths, loop_status
 from sktiction.classifiers import LearnedStictionClassifier
 from sktiction.datasets import make_loops
@@ -104,3 +106,24 @@ def test_scan_asks_the_shared_path(model, loops, monkeypatch):
         atol=1e-12,
     )
     np.testing.assert_array_equal(report["verdict"] == "no_verdict", ~judged)
+
+
+def test_long_records_are_read_in_the_same_windows_as_diagnose(model, loops, monkeypatch):
+    """A record longer than ``long_record`` is judged in windows analysed afresh (the
+    scan's analyses are of the whole record): the same windows in a scan as in
+    ``diagnose``, so the same probabilities (to the last bits of a mean)."""
+    monkeypatch.setattr(scan_module, "_applicability_gate", lambda: None)
+    clf = copy.deepcopy(model).set_params(window=400, long_record=1200)
+    long = loop_lengths(as_judged(loops)) > 1200
+    assert long.sum() >= 30 and (~long).sum() >= 10
+    expected = clf.diagnose(loops)
+    report = scan_loops(loops, classifier=clf, chunk_size=16)
+    np.testing.assert_allclose(
+        report["stiction_probability"].to_numpy()[long],
+        expected["probability"].to_numpy()[long],
+        rtol=0,
+        atol=1e-12,
+    )
+    judged = expected["in_domain"].to_numpy()
+    assert judged[long].sum() >= 25
+    np.testing.assert_array_equal((report["verdict"] == "no_verdict")[long], ~judged[long])

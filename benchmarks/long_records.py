@@ -1,0 +1,99 @@
+"""Long records judged whole or in windows: the learned model's ``long_record`` rule.
+
+The default model learned records of 2,000 samples. A loop longer than ``long_record``
+(10,000) samples is judged in ``n // window`` equal windows of about ``window`` (3,000)
+samples and given the mean probability of the windows the model judges
+(:class:`~sktiction.classifiers.LearnedStictionClassifier`). This script judges the same
+long loops both ways, paired (``set_params(long_record=None)`` reads them whole):
+
+- the second simulator (``independent_world.py``, a force-balance valve, Euler plants,
+  lambda or gain-margin tuning, historian sampling at 1, 2 or 5 s) recorded for 20,000 s
+  (4,000-20,000 samples), three draws;
+- the default world of ``make_loops`` at 20,000 samples, two draws, and at 8,640 (a day at
+  10 s: no loop is touched, the rule's threshold lies above it).
+
+Printed per judge: balanced accuracy whole -> windowed ("no verdict" counts as no
+stiction), recall and specificity, loops touched, verdicts changed both ways; then per
+simulator the change over all its loops pooled, with a 95 % paired bootstrap interval, and
+the figures of the loops touched alone (in the second simulator those sampled at 1 s). The
+rule's two numbers were chosen on these two simulators (a helper's study over more
+draws, window sizes 2,000-6,000 and thresholds 6,000-15,000: ``docs/realism.md``), never
+on measured data; the measured windows (751 samples) and ISDB loops (at most 7,201) are
+all shorter than the threshold and so are judged as before.
+
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/long_records.py`` (about 15-25 minutes on
+2 cores once the default model is cached)
+"""
+
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+from sklearn.metrics import balanced_accuracy_score
+
+sys.path.insert(0, str(Path(__file__).parent))
+from independent_world import make_independent_loops  # noqa: E402
+
+from sktiction import pretrained_classifier  # noqa: E402
+from sktiction._validation import check_loops, loop_lengths  # noqa: E402
+from sktiction.datasets import make_loops  # noqa: E402
+
+SECOND = (2026, 2027, 2028)
+DEFAULT = ((777, 20000), (778, 20000), (777, 8640))
+
+
+def judges():
+    for seed in SECOND:
+        X, y, _ = make_independent_loops(400, 20000, random_state=seed)
+        yield "second simulator", f"20,000 s, draw {seed}", X, y
+    for seed, n in DEFAULT:
+        X, y = make_loops(300, n_samples=n, random_state=seed)
+        yield "default world", f"{n:,} samples, draw {seed}", X, y
+
+
+def rates(y, pred):
+    return balanced_accuracy_score(y, pred), pred[y == 1].mean(), 1 - pred[y == 0].mean()
+
+
+def bootstrap(y, whole, windowed, rng, n_boot=2000):
+    """95 % interval of the paired change in balanced accuracy, loops resampled."""
+    idx = rng.integers(0, len(y), (n_boot, len(y)))
+    diffs = [rates(y[i], windowed[i])[0] - rates(y[i], whole[i])[0] for i in idx]
+    return np.percentile(diffs, [2.5, 97.5])
+
+
+def main():
+    warnings.simplefilter("ignore")  # "cannot be judged" warnings: counted as no stiction
+    windowed_model = pretrained_classifier()
+    whole_model = pretrained_classifier().set_params(long_record=None)
+    rng = np.random.default_rng(0)
+    pooled = {}
+    print("judge: balanced accuracy (recall / specificity) whole -> in windows; loops "
+          "touched; verdicts changed to sticky / to healthy")
+    for world, name, X, y in judges():
+        X = check_loops(X)
+        n = loop_lengths(X)
+        whole = whole_model.predict(X)
+        windowed = windowed_model.predict(X)
+        a, b = rates(y, whole), rates(y, windowed)
+        touched = int((n > windowed_model.long_record).sum())
+        print(f"{world}, {name:26s} {a[0]:.3f} ({a[1]:.2f} / {a[2]:.2f}) -> {b[0]:.3f} "
+              f"({b[1]:.2f} / {b[2]:.2f})   touched {touched} of {len(y)}   changed "
+              f"{int((windowed > whole).sum())} / {int((windowed < whole).sum())}", flush=True)
+        part = pooled.setdefault(world, [[], [], [], []])
+        for store, values in zip(part, (y, whole, windowed, n)):
+            store.append(values)
+    for world, part in pooled.items():
+        y, whole, windowed, n = (np.concatenate(v) for v in part)
+        change = rates(y, windowed)[0] - rates(y, whole)[0]
+        lo, hi = bootstrap(y, whole, windowed, rng)
+        print(f"{world}, all draws pooled: change {change:+.3f} (95 % interval "
+              f"{lo:+.3f} to {hi:+.3f})")
+        sel = n > windowed_model.long_record
+        a, b = rates(y[sel], whole[sel]), rates(y[sel], windowed[sel])
+        print(f"    the {int(sel.sum())} loops touched: {a[0]:.3f} ({a[1]:.2f} / {a[2]:.2f}) "
+              f"-> {b[0]:.3f} ({b[1]:.2f} / {b[2]:.2f})")
+
+if __name__ == "__main__":
+    main()
