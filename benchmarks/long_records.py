@@ -1,28 +1,33 @@
-"""Long records judged whole or in windows: the learned model's ``long_record`` rule.
+"""Long records read whole and in windows: the learned model's ``long_record`` rule.
 
 The default model learned records of 2,000 samples. A loop longer than ``long_record``
-(10,000) samples is judged in ``n // window`` equal windows of about ``window`` (3,000)
-samples and given the mean probability of the windows the model judges
-(:class:`~sktiction.classifiers.LearnedStictionClassifier`). This script judges the same
-long loops both ways, paired (``set_params(long_record=None)`` reads them whole):
+(10,000) samples, once a finer recording is read coarser, is read twice: whole, and in
+``n // window`` equal windows of about ``window`` (3,000) samples, each read as a record of
+its own; its probability is the mean of the two readings (the windows' reading being the
+mean of the windows the model judges; :class:`~sktiction.classifiers.
+LearnedStictionClassifier`). This script judges the same long loops whole
+(``set_params(long_record=None)``) and with the rule, paired:
 
 - the second simulator (``independent_world.py``, a force-balance valve, Euler plants,
   lambda or gain-margin tuning, historian sampling at 1, 2 or 5 s) recorded for 20,000 s
   (4,000-20,000 samples), three draws;
 - the default world of ``make_loops`` at 20,000 samples, two draws, and at 8,640 (a day at
-  10 s: no loop is touched, the rule's threshold lies above it).
+  10 s: no loop is touched, the rule's threshold lies above it);
+- with ``--finer``, long records sampled ten times finer than their dynamics, where
+  windows of 3,000 samples hold a tenth of the dynamics: the default world simulated ten
+  times finer (20,000 samples, periods 80-3,000 samples), two draws, and the second
+  simulator's 3,000 s records interpolated ten times finer with fresh noise
+  (``sampling_rate.py``'s proxy), two draws.
 
-Printed per judge: balanced accuracy whole -> windowed ("no verdict" counts as no
+Printed per judge: balanced accuracy whole -> with the rule ("no verdict" counts as no
 stiction), recall and specificity, loops touched, verdicts changed both ways; then per
-simulator the change over all its loops pooled, with a 95 % paired bootstrap interval, and
-the figures of the loops touched alone (in the second simulator those sampled at 1 s). The
-rule's two numbers were chosen on these two simulators (a helper's study over more
-draws, window sizes 2,000-6,000 and thresholds 6,000-15,000: ``docs/realism.md``), never
-on measured data; the measured windows (751 samples) and ISDB loops (at most 7,201) are
-all shorter than the threshold and so are judged as before.
+group of judges the change over all its loops pooled, with a 95 % paired bootstrap
+interval, and the figures of the loops touched alone. The rule's numbers were chosen on
+simulated judges only (``docs/realism.md``); the measured windows (751 samples) and ISDB
+loops (at most 7,201) are all shorter than the threshold and so are judged as before.
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/long_records.py`` (about 15-25 minutes on
-2 cores once the default model is cached)
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/long_records.py [--finer]`` (about 10 minutes
+each on 2 cores once the default model is cached)
 """
 
 import sys
@@ -34,6 +39,7 @@ from sklearn.metrics import balanced_accuracy_score
 
 sys.path.insert(0, str(Path(__file__).parent))
 from independent_world import make_independent_loops  # noqa: E402
+from sampling_rate import interpolated  # noqa: E402
 
 from sktiction import pretrained_classifier  # noqa: E402
 from sktiction._validation import check_loops, loop_lengths  # noqa: E402
@@ -43,7 +49,17 @@ SECOND = (2026, 2027, 2028)
 DEFAULT = ((777, 20000), (778, 20000), (777, 8640))
 
 
-def judges():
+def judges(finer=False):
+    if finer:
+        for seed in (12345, 777):
+            X, y = make_loops(300, n_samples=20000, period_range=(80.0, 3000.0),
+                              random_state=seed)  # fmt: skip
+            yield "ten times finer", f"default world, draw {seed}", X, y
+        for seed in (2026, 2027):
+            X, y, _ = make_independent_loops(300, 3000, random_state=seed)
+            X = interpolated(X, 10, np.random.default_rng(seed))
+            yield "ten times finer", f"second simulator, draw {seed}", X, y
+        return
     for seed in SECOND:
         X, y, _ = make_independent_loops(400, 20000, random_state=seed)
         yield "second simulator", f"20,000 s, draw {seed}", X, y
@@ -63,22 +79,22 @@ def bootstrap(y, whole, windowed, rng, n_boot=2000):
     return np.percentile(diffs, [2.5, 97.5])
 
 
-def main():
+def main(finer=False):
     warnings.simplefilter("ignore")  # "cannot be judged" warnings: counted as no stiction
     windowed_model = pretrained_classifier()
     whole_model = pretrained_classifier().set_params(long_record=None)
     rng = np.random.default_rng(0)
     pooled = {}
-    print("judge: balanced accuracy (recall / specificity) whole -> in windows; loops "
-          "touched; verdicts changed to sticky / to healthy")
-    for world, name, X, y in judges():
+    print("judge: balanced accuracy (recall / specificity) whole -> whole and in windows; "
+          "loops touched; verdicts changed to sticky / to healthy")
+    for world, name, X, y in judges(finer):
         X = check_loops(X)
         n = loop_lengths(X)
         whole = whole_model.predict(X)
         windowed = windowed_model.predict(X)
         a, b = rates(y, whole), rates(y, windowed)
         touched = int((n > windowed_model.long_record).sum())
-        print(f"{world}, {name:26s} {a[0]:.3f} ({a[1]:.2f} / {a[2]:.2f}) -> {b[0]:.3f} "
+        print(f"{world}, {name:30s} {a[0]:.3f} ({a[1]:.2f} / {a[2]:.2f}) -> {b[0]:.3f} "
               f"({b[1]:.2f} / {b[2]:.2f})   touched {touched} of {len(y)}   changed "
               f"{int((windowed > whole).sum())} / {int((windowed < whole).sum())}", flush=True)
         part = pooled.setdefault(world, [[], [], [], []])
@@ -96,4 +112,4 @@ def main():
               f"-> {b[0]:.3f} ({b[1]:.2f} / {b[2]:.2f})")
 
 if __name__ == "__main__":
-    main()
+    main(finer="--finer" in sys.argv)

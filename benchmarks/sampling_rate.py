@@ -43,7 +43,6 @@ from sktiction._validation import check_loops, loop_lengths
 from sktiction.classifiers import learned
 from sktiction.datasets import make_loops
 
-N_LOOPS = int(sys.argv[1]) if len(sys.argv) > 1 else 300
 FINER = (3, 10)
 
 
@@ -103,16 +102,16 @@ def judge(model, X, y):
     return ba, d["in_domain"].mean(), (d["rows_per_sample"] > 1).mean()
 
 
-def main():
+def main(n_loops=300):
     warnings.simplefilter("ignore", UserWarning)
     model = pretrained_classifier()
     rng = np.random.default_rng(0)
-    judges = [("default world", *make_loops(N_LOOPS, random_state=12345), coarsening_off)]
+    judges = [("default world", *make_loops(n_loops, random_state=12345), coarsening_off)]
     for k in FINER:
-        X, y = make_loops(N_LOOPS, n_samples=2000 * k, period_range=(8.0 * k, 300.0 * k),
+        X, y = make_loops(n_loops, n_samples=2000 * k, period_range=(8.0 * k, 300.0 * k),
                           random_state=12345)  # fmt: skip
         judges.append((f"default world, {k}x finer", X, y, coarsening_off))
-    Xi, yi, _ = make_independent_loops(N_LOOPS, 3000, random_state=2026)
+    Xi, yi, _ = make_independent_loops(n_loops, 3000, random_state=2026)
     judges.append(("second simulator", Xi, yi, coarsening_off))
     for k in FINER:
         judges.append((f"second simulator, {k}x finer", interpolated(Xi, k, rng), yi,
@@ -132,4 +131,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(*(int(a) for a in sys.argv[1:2]))

@@ -157,29 +157,31 @@ def test_out_of_domain_names_the_feature(small_model):
 # ---- long records: judged in windows --------------------------------------------------
 
 
-def test_a_long_record_gets_the_mean_probability_of_its_windows(small_model):
+def test_a_long_record_is_read_whole_and_in_windows(small_model):
     X, _ = make_loops(8, n_samples=2611, world="classic", random_state=SEED + 7)
     X[::2, 1300:] = np.nan  # every other loop is short: judged whole, in its place
     clf = copy.deepcopy(small_model).set_params(window=600, long_record=1500)
     whole = copy.deepcopy(small_model).set_params(long_record=None)
     got = clf.diagnose(X)
+    as_whole = whole.diagnose(X)
     loops = as_judged(check_loops(X))  # what diagnose reads, then cuts
+    long = loop_lengths(loops) > 1500
+    assert long.sum() == 4 and (as_whole["rows_per_sample"] == 1).all()
     for i, n in enumerate(loop_lengths(loops)):
-        if n <= 1500:
-            expected = whole.diagnose(X[i : i + 1])
-            assert got.loc[i, "probability"] == pytest.approx(expected.loc[0, "probability"])
+        if not long[i]:
+            assert got.loc[i, "probability"] == pytest.approx(as_whole.loc[i, "probability"])
             continue
         k = n // 600  # 2,611 samples: 4 windows of 652 (3 left over), each read as a record
         windows = np.stack([loops[i, j * (n // k) : (j + 1) * (n // k)] for j in range(k)])
         parts = whole.diagnose(windows)
-        assert k == 4 and parts["in_domain"].any()
-        p = parts.loc[parts["in_domain"], "probability"].mean()
+        assert k == 4 and parts["in_domain"].any() and as_whole.loc[i, "in_domain"]
+        # the two readings' mean: the windows' mean and the whole record's
+        in_windows = parts.loc[parts["in_domain"], "probability"].mean()
+        p = (in_windows + as_whole.loc[i, "probability"]) / 2
         assert got.loc[i, "probability"] == pytest.approx(p, abs=1e-12)
         assert got.loc[i, "prediction"] == int(p >= 0.5) and got.loc[i, "reason"] == "ok"
-    # read whole, the long records give other probabilities: the rule is not a no-op
-    long = loop_lengths(loops) > 1500
-    assert long.sum() == 4
-    before = whole.diagnose(X)["probability"].to_numpy()[long]
+    # the rule is not a no-op: the long records' probabilities move
+    before = as_whole["probability"].to_numpy()[long]
     assert not np.allclose(got["probability"].to_numpy()[long], before, equal_nan=True)
 
 

@@ -109,7 +109,7 @@ def test_scan_asks_the_shared_path(model, loops, monkeypatch):
 
 
 def test_long_records_are_read_in_the_same_windows_as_diagnose(model, loops, monkeypatch):
-    """A record longer than ``long_record`` is judged in windows analysed afresh (the
+    """A record longer than ``long_record`` is also read in windows analysed afresh (the
     scan's analyses are of the whole record): the same windows in a scan as in
     ``diagnose``, so the same probabilities (to the last bits of a mean)."""
     monkeypatch.setattr(scan_module, "_applicability_gate", lambda: None)

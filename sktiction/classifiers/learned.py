@@ -20,8 +20,8 @@ when the first learned model met data it had not seen:
    probability (NaN), predicts the negative class and says why. One range is a matter of
    recording, not of the loop: cycles slower in samples than any the model learned (a
    finer sampling) are read in block means that bring them into range. A record much
-   longer than the training loops is judged in windows of about their length, and its
-   probability is the windows' mean (``long_record``).
+   longer than the training loops is also read in windows of about their length, and
+   its probability is the mean of the whole record's and the windows' (``long_record``).
 4. **Calibrated probabilities** from two models that fail differently, averaged:
    gradient-boosted trees and a logistic regression, each inside
    :class:`~sklearn.calibration.CalibratedClassifierCV`, so that ``p = 0.8`` means
@@ -402,14 +402,17 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
     window : int, default=3000
         Samples per window of a long record (see ``long_record``).
     long_record : int or None, default=10000
-        A loop with more samples than this (at least twice ``window``) is judged in
-        ``k = n // window`` equal windows, each read as a record of its own, and its
-        probability is the mean of the windows' in domain. The default model learned
-        records of 2,000 samples; on two simulators' records of 10,000-40,000 samples
-        windows of 3,000 gave balanced accuracy 0.01-0.03 more than the whole record
-        (``benchmarks/long_records.py``). Above 10,000 so that a day at 10 s (8,640
-        samples) costs a scan nothing more: each window is analysed again. ``None``
-        judges every record whole. Fitting always reads records whole.
+        A loop with more samples than this (at least twice ``window``; counted after a
+        finer recording is read coarser) is read twice: whole, and in ``k = n // window``
+        equal windows, each read as a record of its own. Its probability is the mean of
+        the two readings, the windows' being the mean of those in domain. The default
+        model learned records of 2,000 samples. Windows alone lift long records
+        sampled as the training loops were but drop rare slips on records sampled much
+        finer than their dynamics; the mean of both readings keeps most of the first and
+        little of the second (``benchmarks/long_records.py``, ``docs/realism.md``).
+        Above 10,000 so that a day at 10 s (8,640 samples) costs a scan nothing more:
+        each window is analysed again. ``None`` reads every record whole. Fitting always
+        reads records whole.
     random_state : int or None, default=None
         Seed of the booster. With the defaults it changes nothing: scikit-learn's
         booster draws only for early stopping (off below 10,000 loops) and for bin
@@ -720,7 +723,10 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         return loops, feats, k
 
     def _diagnose_features(self, loops, feats):
-        loops, feats, rows_per_sample = self._at_trained_scale(loops, feats)
+        return self._verdicts(*self._at_trained_scale(loops, feats))
+
+    def _verdicts(self, loops, feats, rows_per_sample):
+        """The report of loops at the trained scale, from their features."""
         reasons = self._hard_reasons(loops, feats)
         F = feats[list(self.feature_names_)].to_numpy()
         reasons = self._range_reasons(F, reasons)
@@ -741,26 +747,35 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         )
 
     def _judge(self, loops, features):
-        """The report of checked loops: those longer than ``long_record`` from their
-        windows (:meth:`_diagnose_windows`), the others whole from ``features(idx)``,
-        the features of ``loops[idx]``."""
-        long = np.zeros(len(loops), dtype=bool)
-        if self.long_record is not None:
-            long = loop_lengths(loops) > self.long_record
-        if not long.any():
-            return self._diagnose_features(loops, features(np.arange(len(loops))))
-        parts = [self._diagnose_windows(loops[long]).set_axis(np.flatnonzero(long))]
-        whole = np.flatnonzero(~long)
-        if whole.size:
-            parts.append(self._diagnose_features(loops[whole], features(whole)).set_axis(whole))
-        return pd.concat(parts).sort_index().reset_index(drop=True)
+        """The report of checked loops, from ``features(idx)``, the features of
+        ``loops[idx]``. A loop still longer than ``long_record`` once read at the trained
+        scale (a finer recording is read coarser first) is read twice, whole and in
+        windows (:meth:`_diagnose_windows`), and its probability is the mean of the two
+        readings (of the one it has, if only one is in domain)."""
+        loops, feats, rows = self._at_trained_scale(loops, features(np.arange(len(loops))))
+        report = self._verdicts(loops, feats, rows)
+        if self.long_record is None:
+            return report
+        long = np.flatnonzero(loop_lengths(loops) > self.long_record)
+        if long.size:
+            in_windows, rows_windows = self._diagnose_windows(loops[long])
+            with warnings.catch_warnings():  # neither reading in domain: NaN, no verdict
+                warnings.simplefilter("ignore", RuntimeWarning)
+                p = np.nanmean([report["probability"].to_numpy()[long], in_windows], axis=0)
+            judged = np.isfinite(p)
+            at = report.columns.get_loc
+            report.iloc[long, at("probability")] = p
+            report.iloc[long, at("in_domain")] = judged
+            report.iloc[long[judged], at("reason")] = STATUS_OK
+            report.iloc[long, at("prediction")] = self.classes_[(judged & (p >= 0.5)).astype(int)]
+            report.iloc[long, at("rows_per_sample")] = rows[long] * rows_windows
+        return report
 
     def _diagnose_windows(self, loops):
-        """:meth:`_diagnose_features` of each loop's ``k = n // window`` equal windows,
-        each analysed and normalised as a record of its own: the mean probability of
-        the windows in domain. A loop whose whole record cannot be judged (a
-        :func:`~sktiction._validation.loop_status` code) keeps that reason; one with no
-        window in domain gets its windows' most common reason."""
+        """The windows' reading of each loop: its ``k = n // window`` equal windows, each
+        normalised, analysed and checked as a record of its own; returns the mean
+        probability of those in domain (NaN if none, or if the whole record has a
+        :func:`~sktiction._validation.loop_status` code) and the most rows per sample."""
         status = loop_status(loops, require_op=True, check_swap=True)
         lengths = loop_lengths(loops)
         owner, pieces = [], []
@@ -769,33 +784,19 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             size = int(lengths[i]) // k
             pieces += [loops[i, j * size : (j + 1) * size] for j in range(k)]
             owner += [i] * k
-        report = pd.DataFrame(
-            {
-                "prediction": self.classes_[np.zeros(len(loops), dtype=int)],
-                "probability": np.nan,
-                "in_domain": False,
-                "reason": status.astype(str),
-                "rows_per_sample": 1,
-            }
-        )
+        proba, rows = np.full(len(loops), np.nan), np.ones(len(loops), dtype=int)
         if not pieces:
-            return report
-        width = max(len(p) for p in pieces)
-        windows = np.full((len(pieces), width, loops.shape[2]), np.nan)
+            return proba, rows
+        windows = np.full((len(pieces), max(len(p) for p in pieces), loops.shape[2]), np.nan)
         for j, piece in enumerate(pieces):
             windows[j, : len(piece)] = piece
         judged = self._diagnose_features(windows, self._features(normalise_loops(windows)))
         judged["owner"] = owner
-        for i, part in judged.groupby("owner", sort=False):
-            ok = part["in_domain"].to_numpy()
-            report.loc[i, "rows_per_sample"] = part["rows_per_sample"].max()
-            if ok.any():
-                p = part["probability"].to_numpy()[ok].mean()
-                report.loc[i, ["probability", "in_domain", "reason"]] = p, True, STATUS_OK
-                report.loc[i, "prediction"] = self.classes_[int(p >= 0.5)]
-            else:
-                report.loc[i, "reason"] = part["reason"].mode().iloc[0]
-        return report
+        most = judged.groupby("owner")["rows_per_sample"].max()
+        rows[most.index.to_numpy()] = most.to_numpy()
+        mean = judged[judged["in_domain"]].groupby("owner")["probability"].mean()
+        proba[mean.index.to_numpy()] = mean.to_numpy()
+        return proba, rows
 
     def diagnose(self, X):
         """Per loop: verdict, calibrated probability, whether the model may speak, and why.
@@ -805,7 +806,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         shorter), spikes are replaced, placeholders read as gaps, short NaN gaps bridged
         and, past a long one, the longest stretch kept; a start-up transient at the start
         is dropped and an OP recorded a row out of step with PV is moved back in line.
-        A loop then longer than ``long_record`` samples is judged in windows.
+        A loop then longer than ``long_record`` samples is also read in windows.
 
         Parameters
         ----------
@@ -823,8 +824,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             and ``rows_per_sample``: 1, or the rows averaged into each sample of a loop
             whose cycles are slower, in samples, than any the model learned (a recording
             finer than the training loops' is read coarser instead of refused; for a
-            loop judged in windows, the most of its windows). A loop judged in windows
-            and in domain in none of them gets their most common reason.
+            loop also read in windows, the most of its readings).
         """
         check_is_fitted(self, "model_")
         loops = as_judged(validate_loops(self, X, reset=False))
