@@ -154,7 +154,7 @@ def test_out_of_domain_names_the_feature(small_model):
     assert report.loc[hit, "probability"].isna().all() and not report.loc[hit, "in_domain"].any()
 
 
-# ---- long records: judged in windows --------------------------------------------------
+# ---- long records: read whole and in windows --------------------------------------------------
 
 
 def test_a_long_record_is_read_whole_and_in_windows(small_model):
@@ -194,6 +194,31 @@ def test_a_long_record_that_cannot_be_judged_keeps_its_reason(small_model):
     assert report["reason"].tolist()[:2] == ["constant", "missing_op"]
     assert report["probability"].iloc[:2].isna().all() and not report["in_domain"].iloc[:2].any()
     assert report.loc[2, "reason"] == "ok" and np.isfinite(report.loc[2, "probability"])
+
+
+def test_windows_never_overrule_a_hard_refusal_of_the_whole_record(small_model):
+    """OP unrelated to PV over most of the record: the whole record is refused
+    (pv_op_unrelated), and a window where OP still follows PV must not give it a verdict."""
+    X, _ = make_loops(10, n_samples=2600, world="classic", random_state=11)
+    X = check_loops(X)
+    rng = np.random.default_rng(0)
+    centre, spread = np.nanmean(X[:, :, 1], axis=1), np.nanstd(X[:, :, 1], axis=1)
+    X[:, :2000, 1] = centre[:, None] + spread[:, None] * rng.normal(size=(len(X), 2000))
+    clf = copy.deepcopy(small_model).set_params(window=600, long_record=1500)
+    as_whole = copy.deepcopy(small_model).set_params(long_record=None).diagnose(X)
+    got = clf.diagnose(X)
+    refused = ~as_whole["reason"].isin(["ok"]) & ~as_whole["reason"].str.startswith("out_of")
+    assert refused.sum() >= 3
+    np.testing.assert_array_equal(got["reason"][refused], as_whole["reason"][refused])
+    assert got.loc[refused, "probability"].isna().all() and not got.loc[refused, "in_domain"].any()
+
+
+def test_window_parameters_set_after_fit_are_checked(small_model):
+    X, _ = make_loops(2, n_samples=2600, world="classic", random_state=SEED + 8)
+    for params, match in (({"long_record": 1500}, "long_record"), ({"window": 600.0}, "window")):
+        clf = copy.deepcopy(small_model).set_params(**params)  # window 3000 > 1500 / 2
+        with pytest.raises(ValueError, match=match):
+            clf.diagnose(X)
 
 
 @pytest.mark.parametrize(

@@ -405,11 +405,13 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         A loop with more samples than this (at least twice ``window``; counted after a
         finer recording is read coarser) is read twice: whole, and in ``k = n // window``
         equal windows, each read as a record of its own. Its probability is the mean of
-        the two readings, the windows' being the mean of those in domain. The default
-        model learned records of 2,000 samples. Windows alone lift long records
-        sampled as the training loops were but drop rare slips on records sampled much
-        finer than their dynamics; the mean of both readings keeps most of the first and
-        little of the second (``benchmarks/long_records.py``, ``docs/realism.md``).
+        the two readings, the windows' being the mean of those in domain; a record the
+        hard rules refuse whole (too short, PV and OP unrelated, too compressed, a status
+        code) stays refused. The default model learned records of 2,000 samples. Windows
+        alone lifted long records sampled as the training loops were but dropped rare
+        slips on records sampled ten times finer than their dynamics; with both
+        readings the first gain +0.009 to +0.016 and the second move by -0.017 to
+        +0.014, +0.002 pooled (``benchmarks/long_records.py``, ``docs/realism.md``).
         Above 10,000 so that a day at 10 s (8,640 samples) costs a scan nothing more:
         each window is analysed again. ``None`` reads every record whole. Fitting always
         reads records whole.
@@ -507,6 +509,12 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             raise ValueError(f"max_frozen_share must be in (0, 1]; got {self.max_frozen_share!r}.")
         if int(self.min_samples) != self.min_samples or self.min_samples < 20:
             raise ValueError(f"min_samples must be an integer >= 20; got {self.min_samples!r}.")
+        self._check_windows()
+
+    def _check_windows(self):
+        """``window`` and ``long_record``, checked in ``fit`` and again before a verdict:
+        they may be set on a fitted model (a window shorter than ``min_samples`` would
+        never be judged)."""
         if not (isinstance(self.window, numbers.Integral) and self.window >= self.min_samples):
             raise ValueError(f"window must be an integer >= min_samples; got {self.window!r}.")
         if self.long_record is not None and not (
@@ -746,17 +754,21 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
             }
         )
 
-    def _judge(self, loops, features):
-        """The report of checked loops, from ``features(idx)``, the features of
-        ``loops[idx]``. A loop still longer than ``long_record`` once read at the trained
-        scale (a finer recording is read coarser first) is read twice, whole and in
-        windows (:meth:`_diagnose_windows`), and its probability is the mean of the two
-        readings (of the one it has, if only one is in domain)."""
-        loops, feats, rows = self._at_trained_scale(loops, features(np.arange(len(loops))))
+    def _judge(self, loops, feats):
+        """The report of checked loops from their features. A loop still longer than
+        ``long_record`` once read at the trained scale (a finer recording is read coarser
+        first) and judged whole or outside the trained ranges only (not refused by a hard
+        rule: too short, PV and OP unrelated, too compressed, a status code) is read in
+        windows too (:meth:`_diagnose_windows`); its probability is the mean of the two
+        readings, or the one reading in domain."""
+        loops, feats, rows = self._at_trained_scale(loops, feats)
         report = self._verdicts(loops, feats, rows)
-        if self.long_record is None:
+        if getattr(self, "long_record", None) is None:  # None, or a model pickled before it
             return report
-        long = np.flatnonzero(loop_lengths(loops) > self.long_record)
+        self._check_windows()
+        reason = report["reason"].to_numpy(dtype=str)
+        readable = (reason == STATUS_OK) | np.char.startswith(reason, OUT_OF_DOMAIN)
+        long = np.flatnonzero(readable & (loop_lengths(loops) > self.long_record))
         if long.size:
             in_windows, rows_windows = self._diagnose_windows(loops[long])
             with warnings.catch_warnings():  # neither reading in domain: NaN, no verdict
@@ -828,7 +840,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         """
         check_is_fitted(self, "model_")
         loops = as_judged(validate_loops(self, X, reset=False))
-        return self._judge(loops, lambda idx: self._features(normalise_loops(loops[idx])))
+        return self._judge(loops, self._features(normalise_loops(loops)))
 
     def diagnose_analysed(self, loops, analyses, status=None):
         """:meth:`diagnose` of checked loops from their shared, already made analyses.
@@ -877,17 +889,13 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         if status is None:
             status = loop_status(loops, require_op=True)
 
-        def features(idx):
-            sub = loops[idx]
-            raw = _raw_rows(sub, [analyses[i] for i in idx], status[idx])
-            raw = pd.DataFrame(raw, columns=_raw_names())
-            _, op_scale = _centre_scale(sub[:, :, OP])
-            for name in _OP_UNIT_FEATURES:  # in the normalised OP units the model learned
-                raw[name] = raw[name] / op_scale
-            feats = self._model_columns(raw, loop_lengths(sub))
-            return pd.concat([feats, raw[list(DOMAIN_STATISTICS)]], axis=1)
-
-        return self._judge(loops, features)
+        raw = pd.DataFrame(_raw_rows(loops, analyses, status), columns=_raw_names())
+        _, op_scale = _centre_scale(loops[:, :, OP])
+        for name in _OP_UNIT_FEATURES:  # in the normalised OP units the model learned
+            raw[name] = raw[name] / op_scale
+        feats = self._model_columns(raw, loop_lengths(loops))
+        feats = pd.concat([feats, raw[list(DOMAIN_STATISTICS)]], axis=1)
+        return self._judge(loops, feats)
 
     def predict_proba(self, X):
         """Calibrated class probabilities; NaN rows for loops outside the model's domain.
