@@ -854,7 +854,9 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         OP scale of :func:`normalise_loops`. The features so agree with
         :meth:`diagnose`'s to rounding; a decision taken exactly on a threshold (a
         cycle period at the tolerance, a move at its limit, common on quantised
-        records) can still go either way, as it can for a shifted copy of a loop.
+        records) can still go either way, as it can for a shifted copy of a loop. The
+        windows of a record longer than ``long_record`` are not in the shared analyses:
+        they are normalised and analysed here, as :meth:`diagnose` does.
 
         Parameters
         ----------
@@ -888,7 +890,6 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         check_is_fitted(self, "model_")
         if status is None:
             status = loop_status(loops, require_op=True)
-
         raw = pd.DataFrame(_raw_rows(loops, analyses, status), columns=_raw_names())
         _, op_scale = _centre_scale(loops[:, :, OP])
         for name in _OP_UNIT_FEATURES:  # in the normalised OP units the model learned
