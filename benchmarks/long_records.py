@@ -37,10 +37,10 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from sklearn.metrics import balanced_accuracy_score
 
 sys.path.insert(0, str(Path(__file__).parent))
 from independent_world import make_independent_loops  # noqa: E402
+from measured_data import rates  # noqa: E402  (balanced accuracy, recall, specificity)
 from sampling_rate import interpolated  # noqa: E402
 
 from sktiction import pretrained_classifier  # noqa: E402
@@ -69,10 +69,6 @@ def judges(finer=False):
     for seed, n in DEFAULT:
         X, y = make_loops(300, n_samples=n, random_state=seed)
         yield "default world", f"{n:,} samples, draw {seed}", X, y
-
-
-def rates(y, pred):
-    return balanced_accuracy_score(y, pred), pred[y == 1].mean(), 1 - pred[y == 0].mean()
 
 
 def bootstrap(y, whole, windowed, rng, n_boot=2000):

@@ -784,29 +784,25 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         return report
 
     def _diagnose_windows(self, loops):
-        """The windows' reading of each loop: its ``k = n // window`` equal windows, each
-        normalised, analysed and checked as a record of its own; returns the mean
-        probability of those in domain (NaN if none, or if the whole record has a
-        :func:`~sktiction._validation.loop_status` code) and the most rows per sample."""
-        status = loop_status(loops, require_op=True, check_swap=True)
-        lengths = loop_lengths(loops)
+        """The windows' reading of loops that :meth:`_judge` found readable (so with no
+        :func:`~sktiction._validation.loop_status` code): each loop's ``k = n // window``
+        equal windows, normalised, analysed and checked as records of their own; returns
+        the mean probability of those in domain (NaN if none) and the most rows per
+        sample."""
+        from ..datasets._measured import pad_loops
+
         owner, pieces = [], []
-        for i in np.flatnonzero(status == STATUS_OK):
-            k = int(lengths[i]) // self.window
-            size = int(lengths[i]) // k
-            pieces += [loops[i, j * size : (j + 1) * size] for j in range(k)]
+        for i, n in enumerate(loop_lengths(loops)):
+            k = int(n) // self.window
+            size = int(n) // k
+            pieces += [loops[i : i + 1, j * size : (j + 1) * size] for j in range(k)]
             owner += [i] * k
-        proba, rows = np.full(len(loops), np.nan), np.ones(len(loops), dtype=int)
-        if not pieces:
-            return proba, rows
-        windows = np.full((len(pieces), max(len(p) for p in pieces), loops.shape[2]), np.nan)
-        for j, piece in enumerate(pieces):
-            windows[j, : len(piece)] = piece
+        windows = pad_loops(pieces)
         judged = self._diagnose_features(windows, self._features(normalise_loops(windows)))
         judged["owner"] = owner
-        most = judged.groupby("owner")["rows_per_sample"].max()
-        rows[most.index.to_numpy()] = most.to_numpy()
+        rows = judged.groupby("owner")["rows_per_sample"].max().to_numpy()
         mean = judged[judged["in_domain"]].groupby("owner")["probability"].mean()
+        proba = np.full(len(loops), np.nan)
         proba[mean.index.to_numpy()] = mean.to_numpy()
         return proba, rows
 
