@@ -5,7 +5,9 @@ and by every classifier (:func:`as_judged`).
   (a "Bad" value written as 0 or -9999, a transmitter glitch). A single one wrecks every
   least-squares statistic of the loop (the PV-OP coupling test read one zero in 751 rows
   as "PV and OP unrelated"). A valve's slip is a step, not a spike: after it the signal
-  stays where it went, so it is never taken for one.
+  stays where it went, so it is never taken for one. In the first and last three rows,
+  which have one neighbour, a run beyond the limit from it is a spike too: a slip there is
+  cut short by a few samples, a "Bad" last row would set the record's span.
 - **Regular holds**: every value written k times because the export grid is k times finer
   than the historian's storage interval. The record then looks like a valve that sticks
   for k - 1 samples out of k; read every k-th row, it is the loop as stored. OP alone on
@@ -92,6 +94,33 @@ def _spike_limit(x, d):
     return max(limit, 0.6 * (hi - lo))
 
 
+def _end_runs(y, d, big, limit):
+    """Spikes among the first and last :data:`MAX_SPIKE_WIDTH` samples, which have one
+    neighbour only: a run at an end of ``y`` beyond ``limit`` from the sample next to it,
+    reached by the only jump that large within :data:`_QUIET` samples. A "Bad" value in
+    the last row otherwise stays and sets the record's span; what is lost instead is a
+    real slip in the last rows, one to three samples of it."""
+    found = np.zeros(y.size, dtype=bool)
+    m = y.size
+    for w in range(1, MAX_SPIKE_WIDTH + 1):
+        if m < w + 2 + _QUIET:
+            break
+        j = m - w - 1  # the jump into the run at the end
+        if big[j] and not big[j - _QUIET : j].any():
+            if ((y[j + 1 :] - y[j]) * np.sign(d[j]) > limit).all():
+                found[j + 1 :] = True
+                break
+    for w in range(1, MAX_SPIKE_WIDTH + 1):
+        if m < w + 2 + _QUIET:
+            break
+        j = w - 1  # the jump out of the run at the start
+        if big[j] and not big[j + 1 : j + 1 + _QUIET].any():
+            if ((y[j + 1] - y[: j + 1]) * np.sign(d[j]) > limit).all():
+                found[: j + 1] = True
+                break
+    return found
+
+
 def spike_mask(x):
     """Samples of ``x`` (1-D) that are spikes: runs of one to :data:`MAX_SPIKE_WIDTH`
     samples that jump away by more than the limit and straight back to within half of it,
@@ -133,6 +162,7 @@ def spike_mask(x):
         hit &= (n_big[hi] - n_big[lo]) == (n_big[i + w + 1] - n_big[i])  # alone
         for j in range(1, w + 1):
             found[i[hit] + j] = True
+    found |= _end_runs(y, d, big, limit)
     if found.sum() > max(3, MAX_SPIKE_SHARE * y.size):
         return mask
     mask[finite[found]] = True

@@ -43,6 +43,37 @@ def test_a_spike_of_one_to_three_samples_is_found_and_nothing_else(width, value)
     assert np.flatnonzero(spike_mask(x)).tolist() == list(range(300, 300 + width))
 
 
+@pytest.mark.parametrize("width", [1, 2, 3])
+def test_a_bad_value_in_the_first_or_last_rows_is_a_spike_too(width):
+    """An end sample has one neighbour: a run of one to three there, beyond the limit from
+    the sample next to it, is a spike; four, or a step that stays, are not."""
+    x = _sine() + 100.0
+    last, first = x.copy(), x.copy()
+    last[-width:], first[:width] = 0.0, 0.0
+    assert np.flatnonzero(spike_mask(last)).tolist() == list(range(600 - width, 600))
+    assert np.flatnonzero(spike_mask(first)).tolist() == list(range(width))
+    stays = x.copy()
+    stays[-4:] = 0.0
+    assert not spike_mask(stays).any()
+    loop = np.column_stack([x, x, x])
+    loop[-width:, 1] = -9999.0
+    assert remove_spikes(loop, 600) == width  # held at the last good value
+    assert (loop[-width:, 1] == x[-width - 1]).all()
+
+
+def test_an_end_run_beside_another_jump_is_not_a_spike():
+    """The jump into an end run must be alone within the quiet samples: a fast square
+    wave's last level is the signal, not a "Bad" value."""
+    slow = _sine(period=100.0) + 100.0
+    slow[-2:] = 0.0
+    assert np.flatnonzero(spike_mask(slow)).tolist() == [598, 599]
+    slow[-5] = 50.0  # another jump as large three samples before the run
+    assert not spike_mask(slow).any()
+    fast = np.tile([0.0, 0.0, 1.0, 1.0], 150)
+    fast[-1] = 0.0
+    assert not spike_mask(fast).any()
+
+
 def test_steps_cycles_noise_and_wide_excursions_are_not_spikes():
     rng = np.random.default_rng(1)
     square = np.repeat(np.tile([0.0, 1.0], 10), 30) + rng.normal(0, 0.02, 600)  # slips
