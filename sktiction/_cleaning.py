@@ -61,8 +61,10 @@ IMPLAUSIBLE = 1e20
 _PLACEHOLDER_GAP = 10.0
 #: Most distinct values a placeholder cluster holds (a historian writes one or two codes).
 _PLACEHOLDER_VALUES = 2
-#: Largest share of a record read as placeholders: beyond it they are the loop's data.
-MAX_PLACEHOLDER_SHARE = 0.2
+#: Largest share of a record read as placeholders: below half, so that the values left are
+#: the record's majority (a transmitter out for the last hours of a day's export writes
+#: -9999 on a quarter or a third of its rows, and read as data it decides the verdict).
+MAX_PLACEHOLDER_SHARE = 0.45
 #: Fewest value changes from which a hold grid is believed (a chance alignment of 20
 #: changes on one phase of 2 has probability 2e-6).
 MIN_HOLD_CHANGES = 20
@@ -195,7 +197,8 @@ def placeholder_mask(x):
     carries noise (many distinct values); a trip to 0 or a saturation at 100 % from working
     values is within ten times their distance from zero; a setpoint's few levels are too
     close to each other. Missed by design: a code within ten times a signal's own level
-    (-9999 on a flow of 3,500-6,500 kg/h) and an outage longer than a fifth of the record.
+    (-9999 on a flow of 3,500-6,500 kg/h) and an outage of half the record or more (the
+    code is then the record's majority).
 
     Examples
     --------
@@ -216,8 +219,8 @@ def placeholder_mask(x):
     y = x[np.isfinite(x) & ~mask]
     if y.size < 4:
         return mask
-    # Most records end here, in O(n): placeholders take at most a fifth of the samples, so
-    # the others hold the k-th smallest and k-th largest (k a fifth): their range is at
+    # Most records end here, in O(n): placeholders take at most k of the samples, so
+    # the others hold the k-th smallest and k-th largest (k < n / 2): their range is at
     # least the distance between these, their median at least as far from zero as the
     # nearer of the two when both have one sign; a placeholder's gap is within the range.
     k = int(MAX_PLACEHOLDER_SHARE * y.size)

@@ -235,6 +235,19 @@ def test_codes_at_both_ends_are_judged_without_each_other():
         range(300, 320))
 
 
+@pytest.mark.parametrize("share", [0.25, 0.35, 0.44])
+def test_an_outage_of_up_to_nearly_half_the_record_is_read_as_placeholders(share):
+    """A transmitter out for the last hours of an export: the code is a minority of the
+    rows, as far from the others as a short outage, and is read the same way."""
+    x = 50 + _sine(n=2000)
+    k = int(share * x.size)
+    x[-k:] = -9999.0
+    assert np.flatnonzero(placeholder_mask(x)).tolist() == list(range(2000 - k, 2000))
+    x = 50 + _sine(n=2000)
+    x[300 : 300 + k // 2], x[1500 : 1500 + k - k // 2] = -9999.0, 1e6  # both ends' codes
+    assert int(placeholder_mask(x).sum()) == k
+
+
 def test_moves_saturation_setpoints_and_quantised_records_are_not_placeholders():
     x = 50 + _sine(n=2000)
     moved = x.copy()
@@ -248,7 +261,7 @@ def test_moves_saturation_setpoints_and_quantised_records_are_not_placeholders()
     coarse = np.round(x * 2) / 2  # a 0.5 grid: few values, all near each other
     assert not placeholder_mask(coarse).any()
     heavy = x.copy()
-    heavy[:500] = -9999.0  # a quarter of the record: the loop's data, not a code
+    heavy[:1000] = -9999.0  # half the record: which side is data is no longer clear
     assert not placeholder_mask(heavy).any()
     rng = np.random.default_rng(2)
     tripped = 45 + rng.normal(0, 1.5, 1500)

@@ -88,6 +88,20 @@ def test_csv_with_byte_order_mark(tmp_path):
     assert data.meta.loc[0, "ts"] == 2.0
 
 
+def test_a_day_missing_between_two_shifts_keeps_the_longer_one(tmp_path):
+    """Hours of 10 s data with a day between them: the longer stretch is read, from its own
+    start, and the note says so (a grid over the missing day would be 96 % empty)."""
+    times = np.r_[np.arange(200), 8640 + np.arange(300)] * 10.0
+    stamps = pd.Timestamp("2024-03-04 06:00") + pd.to_timedelta(times, unit="s")
+    lines = [f"{s:%Y-%m-%d %H:%M:%S},{i % 7},{i % 5}" for i, s in enumerate(stamps)]
+    f = write(tmp_path / "FIC1.csv", "time,PV,OP\n" + "\n".join(lines) + "\n")
+    data = read_loops(f)
+    assert data.meta.loc[0, "n_samples"] == 300 and data.meta.loc[0, "ts"] == 10.0
+    assert data.meta.loc[0, "start"] == pd.Timestamp("2024-03-05 06:00")
+    np.testing.assert_array_equal(data.X[0, :, 0], np.arange(200, 500) % 7)
+    assert "kept the longest stretch between time jumps" in data.meta.loc[0, "reason"]
+
+
 def test_ts_argument_and_channels(tmp_path):
     f = write(tmp_path / "PIC3_run.csv", "level,valve\n1,2\n3,4\n")
     with pytest.raises(ValueError, match="PIC3_run.csv: no PV column"):
@@ -495,8 +509,9 @@ def test_parse_times(values, seconds, start, note):
 def test_time_errors():
     with pytest.raises(TimeError, match="values are not times"):
         parse_times(pd.Series(["monday", "tuesday"], dtype="str"))
-    with pytest.raises(TimeError, match="span"):  # a hole 100x the records: refuse, say why
-        regularise(np.array([0.0, 1, 2, 3, 500]), np.zeros(5))
+    # a hole 100x the records: the stretch before it is read, and the note says why
+    grid, _, _, notes = regularise(np.array([0.0, 1, 2, 3, 500]), np.zeros(5))
+    assert grid.tolist() == [0, 1, 2, 3] and "the records span 500 s" in notes[-1]
 
 
 def test_per_file_reader_does_not_pad(tmp_path):

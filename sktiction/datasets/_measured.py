@@ -514,6 +514,8 @@ def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
         hold = [4 * j + 3 for j in range(len(loops))]
         t, values, step, time_notes = regularise(t, values, hold=hold, strict=strict)
         notes += time_notes
+        if len(t) and t[0] > 0 and pd.notna(start):  # a later stretch was kept
+            start += pd.Timedelta(seconds=float(t[0]))
     if ts is not None:
         if step is not None and abs(step - ts) > 0.01 * ts:
             notes.append(f"ts={ts:g} given, timestamps say {step:g} s")

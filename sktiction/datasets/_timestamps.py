@@ -476,10 +476,16 @@ def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.
         them are NaN rather than interpolated (a straight line over missing minutes would
         invent data; :func:`sktiction._validation.repair_gaps` decides what to bridge).
 
+    When a grid over the whole span would hold more than four times as many rows as the
+    samples (a day missing from hours of data, a scan rate that drops tenfold), only the
+    longest stretch between time jumps of more than ``gap_steps`` steps is kept and
+    resampled, and a note says which.
+
     Returns
     -------
     t : ndarray of shape (m,)
-        Regular grid (or the sorted unique times when nothing was resampled).
+        Regular grid (or the sorted unique times when nothing was resampled); it starts
+        after 0 when a later stretch was kept.
     values : ndarray of shape (m, k)
     step : float or None
         Median interval in seconds, None with fewer than two distinct times.
@@ -524,10 +530,21 @@ def regularise(t, values, *, hold=(), strict=False, tolerance=0.01, gap_steps=3.
         return t, values, step, [*notes, note]
     n_grid = int(np.floor((t[-1] - t[0]) / step + 1e-9)) + 1
     if n_grid > 4 * len(t):
-        raise TimeError(
-            f"{note}; the records span {t[-1] - t[0]:g} s, {n_grid} steps for {len(t)} rows: "
-            f"split the file where the time jumps, or pass ts= to ignore the timestamps"
+        # A grid over days missing from hours of data (or over a slower scan rate's rows)
+        # would be mostly NaN: keep the longest stretch between the jumps instead, as
+        # gap repair does past a long gap (at least two rows: half the steps are short).
+        cuts = np.concatenate([[0], np.flatnonzero(dt > gap_steps * step) + 1, [len(t)]])
+        longest = int(np.argmax(np.diff(cuts)))
+        a, b = int(cuts[longest]), int(cuts[longest + 1])
+        note += (
+            f"; the records span {t[-1] - t[0]:g} s, {n_grid} steps of {step:g} s for "
+            f"{len(t)} rows: kept the longest stretch between time jumps of more than "
+            f"{gap_steps:g} steps ({b - a} rows from {t[a]:g} s)"
         )
+        grid, out, step, more = regularise(
+            t[a:b], values[a:b], hold=hold, tolerance=tolerance, gap_steps=gap_steps
+        )
+        return grid, out, step, [*notes, note, *more]
     grid = t[0] + step * np.arange(n_grid)
     j = np.clip(np.searchsorted(t, grid, side="right") - 1, 0, len(t) - 2)
     left, right = t[j], t[j + 1]
