@@ -227,3 +227,57 @@ def test_an_op_written_as_a_fraction_of_travel_is_noted(tmp_path):
                                                                  index=False)
     assert "OP stays within 0-1" in read_loop_file(tmp_path / "frac.csv").meta.loc[0, "reason"]
     assert "0-1" not in read_loop_file(tmp_path / "pct.csv").meta.loc[0, "reason"]
+
+
+# ---- decimal commas where the file's mark is a point; US thousands on integers -------------
+
+
+def test_quoted_decimal_commas_say_what_they_are(tmp_path):
+    """Before: 'PV column holds no numbers; 3 text values ...', never 'decimal comma'."""
+    path = tmp_path / "FIC1.csv"
+    path.write_text('Time,PV,OP\n2024-04-03 10:00:00,"50,036","49,5"\n'
+                    '2024-04-03 10:00:10,"50,125","49,75"\n')  # fmt: skip
+    data, meta = _meta(path)
+    assert meta["status"] == "error" and np.isnan(data.X).all()
+    assert meta["reason"].startswith(
+        "PV column 'PV' holds no numbers; text values such as '50,036' look like numbers "
+        "with a decimal comma, in a file whose decimal mark is a point: export the file "
+        "with ';' between the columns"
+    )
+
+
+def test_text_cells_with_decimal_commas_in_a_workbook_say_what_they_are(tmp_path):
+    pytest.importorskip("openpyxl")
+    path = tmp_path / "FIC1.xlsx"
+    pd.DataFrame({"Zeit": _times("2024-04-03 10:00", 3), "PV": ["50,036", "50,125", "50,5"],
+                  "OP": [40.5, 41.0, 41.5]}).to_excel(path, index=False)  # fmt: skip
+    _, meta = _meta(path)
+    assert meta["status"] == "error"
+    assert "text values such as '50,036' look like numbers with a decimal comma" in meta["reason"]
+    assert "make the cells numbers" in meta["reason"]
+
+
+def test_a_status_word_is_no_decimal_comma(tmp_path):
+    path = tmp_path / "FIC1.csv"
+    path.write_text("t,PV,OP\n0,Bad,1\n10,2.5,2\n20,\"1,5\",3\n30,Bad,4\n")
+    _, meta = _meta(path)
+    assert "decimal comma" not in meta["reason"]
+
+
+@pytest.mark.parametrize(
+    ("pv", "other", "read"),
+    [
+        # 1,019 beside 987 in the column: 1.019 would be a thousandfold jump
+        (['"987"', '"1,019"', '"1,063"'], "49.875", [987, 1019, 1063]),
+        # only 1,019 in the column, but 1,810.25 elsewhere shows the file's US grouping
+        (['"1,019"', '"1,020"', '"1,063"'], '"1,810.25"', [1019, 1020, 1063]),
+    ],
+)  # fmt: skip
+def test_us_thousands_on_integers(tmp_path, pv, other, read):
+    path = tmp_path / "FIC1.csv"
+    path.write_text("Time,PV,OP\n" + "".join(
+        f"2024-04-03 10:00:{10 * i:02d},{v},{other}\n" for i, v in enumerate(pv)))  # fmt: skip
+    data, meta = _meta(path)
+    np.testing.assert_array_equal(data.X[0, :, 0], read)
+    assert "thousands separators ',' in 'PV' removed" in meta["reason"]
+    assert meta["n_nan"] == 0

@@ -155,7 +155,7 @@ def test_java_time_formats():
 
 def _header(lines):
     notes = []
-    return (*_delimited_header(lines, notes), notes)
+    return (*_delimited_header(lines, notes)[:5], notes)  # without the thousands mark
 
 
 def test_excel_sep_line_is_obeyed():
@@ -496,3 +496,96 @@ def test_data_rows_above_the_header_are_an_error_not_titles():
     # a title with a date and a number is a title
     lines = ["Report 27.11.2026 08:00, 2 loops", "Time,PV,OP", "2026-11-27 08:00:00,1.5,40"]
     assert _header(lines)[2] == 1
+
+
+# ---- decimal mark of ';' files ---------------------------------------------------------------
+
+
+def _stamped(n, start="2024-04-03 22:00:00"):
+    return pd.date_range(start, periods=n, freq="10s").strftime("%d.%m.%Y %H:%M:%S")
+
+
+@pytest.mark.parametrize("n", [1500, 4000])  # within the first 64 KiB read, and beyond it
+def test_decimal_comma_judged_over_the_whole_file(tmp_path, n):
+    """A plant down at the start (PV 0, OP 100, integers) and decimal commas later: the
+    first 200 rows alone said 'point', and every later value was status text."""
+    k = np.arange(n)
+    pv = np.where(k < n - 600, 0.0, 40 + (k % 61) / 8)  # exact in binary: 40.000, 40.125
+    op = np.where(k < n - 600, 100.0, 50 + (k % 7) / 8)
+    fmt = lambda v: f"{v:.0f}" if v.is_integer() else f"{v:.3f}".replace(".", ",")  # noqa: E731
+    rows = [f"{s};{fmt(a)};{fmt(b)}" for s, a, b in zip(_stamped(n), pv, op, strict=True)]
+    f = tmp_path / "FIC1.csv"
+    f.write_text("Zeit;PV;OP\n" + "\n".join(rows) + "\n")
+    assert (f.stat().st_size > 1 << 16) == (n == 4000)
+    data = read_loop_file(f)
+    np.testing.assert_array_equal(data.X[0, :, 0], pv)
+    np.testing.assert_array_equal(data.X[0, :, 1], op)
+    assert data.meta.loc[0, "reason"].startswith("decimal comma")
+
+
+@pytest.mark.parametrize("op_text", ["50", "49,875"])
+def test_points_grouping_integers_in_a_decimal_comma_file(tmp_path, op_text):
+    """German '#.##0' flows (1.019 kg/h is 1019) beside integers below 1000 or an OP with
+    decimal commas: before, PV was read 1000 times too small and the OP was lost."""
+    text = ("Zeit;FIC1.PV;FIC1.OP;FIC1.SP\n"
+            f"03.04.2024 22:00:00;987;{op_text};1.000\n"
+            f"03.04.2024 22:00:10;1.019;{op_text};1.000\n"
+            f"03.04.2024 22:00:20;1.063;{op_text};1.000\n"
+            f"03.04.2024 22:00:30;999;{op_text};1.000\n")  # fmt: skip
+    f = tmp_path / "FIC1.csv"
+    f.write_text(text)
+    data = read_loop_file(f)
+    np.testing.assert_array_equal(data.X[0, :, 0], [987, 1019, 1063, 999])
+    np.testing.assert_array_equal(data.X[0, :, 1], float(op_text.replace(",", ".")))
+    np.testing.assert_array_equal(data.X[0, :, 2], 1000.0)
+    assert data.meta.loc[0, "reason"].startswith("decimal comma")
+
+
+@pytest.mark.parametrize(
+    ("rows", "decimal"),
+    [
+        (["1;0,5;2", "2;0,25;3"], ","),  # decimal commas only
+        (["1;0.5;2", "2;0.25;3"], "."),  # decimal points only
+        (["1;1.019;987", "2;1.063;999"], "."),  # 1.019 in a column of its own: a point
+        (["1;1.019;5", "2;987;6"], ","),  # beside 987: the point groups thousands
+        (["1;49,998;50,125", "2;50,000;50,0"], ","),  # three decimals beside a sure comma
+        (["1;50,0134;49.998", "2;50,0130;49.999"], ","),  # 49.998 is 49998 there
+        (["1;47,903;0", "2;48,371;100"], ","),  # groups of three only: the comma votes
+        (["1;1,019.5;2", "2;987.25;3"], "."),  # US grouping with decimals
+    ],
+)  # fmt: skip
+def test_decimal_mark_of_a_file(rows, decimal):
+    from sktiction.datasets._readers import _decimal_mark
+
+    assert _decimal_mark(rows, ";")[0] == decimal
+
+
+# ---- column names with a bare unit -----------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("name", "key"),
+    [
+        ("OP %", "op"), ("OP%", "op"), ("Output %", "op"), ("PV degC", "pv"), ("PV °C", "pv"),
+        ("SP %", "sp"), ("FIC1.PV m3/h", "pv"), ("FIC1.SP kg/h", "sp"), ("TIC1 PV K", "pv"),
+        ("Set Point", "sp"), ("Setpoint", "sp"), ("Set-Point", "sp"), ("FIC1 Set Point", "sp"),
+        ("Set Point %", "sp"), ("OP (%)", "op"), ("time min", "time"),
+        # not channels: a mode, a quality, a level, a name that only ends like a unit
+        ("OP_MODE", "mode"), ("PV_QUALITY", None), ("PV QUALITY", None), ("Level %", None),
+        ("PV_QUALITY %", None), ("OPs", None), ("SPAN", None), ("%", None),
+    ],
+)  # fmt: skip
+def test_channel_names_with_a_bare_unit(name, key):
+    from sktiction.datasets._measured import channel_key
+
+    assert channel_key(name) == key
+
+
+def test_bare_units_and_set_point_in_a_file(tmp_path):
+    f = tmp_path / "FIC1.csv"
+    f.write_text("Time,PV degC,OP %,Set Point,OP_MODE,PV_QUALITY\n"
+                 "2024-04-03 10:00:00,50.5,40.25,51,1,192\n"
+                 "2024-04-03 10:00:10,50.75,40.5,51,1,192\n")  # fmt: skip
+    data = read_loop_file(f)
+    np.testing.assert_array_equal(data.X[0], [[50.5, 40.25, 51], [50.75, 40.5, 51]])
+    assert data.meta.loc[0, "status"] == "ok" and "no OP" not in data.meta.loc[0, "reason"]

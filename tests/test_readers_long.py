@@ -519,3 +519,45 @@ def test_trailer_lines_after_a_long_export_are_skipped(tmp_path):
     assert data.meta["status"].tolist() == ["ok", "ok"], data.meta["reason"].tolist()
     np.testing.assert_array_equal(data.X, X)
     assert "2 rows without a tag or a readable time skipped" in data.meta.loc[0, "reason"]
+
+
+@pytest.mark.parametrize(
+    "header",
+    [
+        "Name;Zeit;Wert", "Messstelle;Zeitstempel;Messwert", "Tag;Horodatage;Valeur",
+        "Nom;Date;Valeur", "Nombre;Fecha;Valor", "Naam;Tijd;Waarde", "Tag;Tijdstempel;Waarde",
+    ],
+)  # fmt: skip
+def test_long_exports_named_in_german_french_spanish_dutch(tmp_path, header):
+    """Before, the value column was not known, the file was read as wide and had 'no PV'
+    (and channels={'pv': 'Wert'} read every tag's values as one PV)."""
+    stamps = pd.date_range("2024-04-03 22:00:00", periods=4, freq="10s")
+    values = {"PV": [50.25, 50.5, 50.75, 51.0], "OP": [40.5, 41.0, 41.5, 42.0],
+              "SP": [50.0, 50.0, 50.0, 50.0]}  # fmt: skip
+    rows = [f"FIC101.{ch};{s:%d.%m.%Y %H:%M:%S};{str(v[i]).replace('.', ',')}"
+            for ch, v in values.items() for i, s in enumerate(stamps)]  # fmt: skip
+    f = tmp_path / "long.csv"
+    f.write_text(header + "\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    data = read_loop_file(f)
+    meta = data.meta.iloc[0]
+    assert meta["status"] == "ok" and meta["tag"] == "FIC101" and meta["ts"] == 10.0
+    assert meta["start"] == stamps[0] and "long layout" in meta["reason"]
+    np.testing.assert_array_equal(data.X[0], np.column_stack(list(values.values())))
+
+
+@pytest.mark.parametrize(
+    ("names", "found"),
+    [
+        (["Messstelle", "Datum", "Uhrzeit", "Messwert", "Qualität"],
+         {"tag": 0, "date": 1, "time": 2, "value": 3, "quality": [4]}),
+        (["Nombre", "Fecha", "Hora", "Valor", "Calidad"],
+         {"tag": 0, "date": 1, "time": 2, "value": 3, "quality": [4]}),
+        (["Naam", "Tijdstip", "Waarde", "Kwaliteit"],
+         {"tag": 0, "date": None, "time": 1, "value": 2, "quality": [3]}),
+    ],
+)  # fmt: skip
+def test_long_column_roles_in_other_languages(names, found):
+    from sktiction.datasets._measured import _is_time
+
+    cols = long_columns(names, _is_time)
+    assert {k: cols[k] for k in found} == found

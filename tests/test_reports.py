@@ -45,14 +45,15 @@ def test_scan_turns_a_crashing_loop_into_a_status(small_learned, monkeypatch):
 
     real = scan._scan_chunk
 
+    X, _ = make_loops(3, n_samples=1200, random_state=5)
+    marker = X[1, 0, 0]  # loop 1's own first PV, which cleaning keeps (a 123 there is a spike)
+
     def flaky(loops, *args):
-        if np.any(loops[:, 0, 0] == 123.0):
+        if np.any(loops[:, 0, 0] == marker):
             raise RuntimeError("boom")
         return real(loops, *args)
 
     monkeypatch.setattr(scan, "_scan_chunk", flaky)
-    X, _ = make_loops(3, n_samples=1200, random_state=5)
-    X[1, 0, 0] = 123.0
     report = scan_loops(X, classifier=small_learned)
     assert report["status"].tolist()[1] == "error"
     assert "boom" in report.loc[1, "reason"]

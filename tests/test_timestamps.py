@@ -357,12 +357,89 @@ def test_day_first_note_only_when_the_whole_column_allows_both_orders():
     late = pd.Series(pd.date_range("2024-01-01", periods=2000, freq="10min")
                      .strftime("%d/%m/%Y %H:%M"))  # fmt: skip
     assert parse_times(late)[2] == []  # 13/01 settles it, though the sample does not
-    early = pd.Series(pd.date_range("2024-01-01", periods=100, freq="10min")
+    early = pd.Series(pd.date_range("2024-01-02", periods=100, freq="10min")
                       .strftime("%d/%m/%Y %H:%M"))  # fmt: skip
     assert parse_times(early)[2] == ["dates could be day/month or month/day: read day first"]
+    # 01/01: both orders give the same dates, so there is nothing to say
+    same = pd.Series(pd.date_range("2024-01-01", periods=100, freq="10min")
+                     .strftime("%d/%m/%Y %H:%M"))  # fmt: skip
+    assert parse_times(same)[2] == []
 
 
 @pytest.mark.parametrize("raw", [[0.0, 1.0, np.inf, 3.0], ["0", "1", "-inf", "3"]])
 def test_an_infinite_time_is_a_row_without_a_time(raw):
     t, _, _ = parse_times(pd.Series(raw))
     np.testing.assert_array_equal(t, [0, 1, np.nan, 3])  # skipped by the reader, with a note
+
+
+# ---- day-first formats of European exports ---------------------------------------------------
+
+_MIDNIGHT = pd.date_range("2024-04-03 23:58:00", periods=30, freq="10s")  # into 04.04.
+
+
+@pytest.mark.parametrize(
+    ("fmt", "suffix", "first"),
+    [
+        ("%d.%m.%y %H:%M:%S", "", "03.04.24 23:58:00"),  # German DCS, two-digit year
+        ("%d.%m.%Y %H:%M:%S", ",000", "03.04.2024 23:58:00,000"),  # German Excel
+        ("%d/%m/%Y %H:%M:%S", ",000", "03/04/2024 23:58:00,000"),
+        ("%d-%m-%Y %H:%M:%S", "", "03-04-2024 23:58:00"),
+        ("%d.%m.%Y %I:%M:%S %p", "", "03.04.2024 11:58:00 PM"),
+    ],
+)  # fmt: skip
+def test_day_first_formats_crossing_midnight_are_read_day_first(fmt, suffix, first):
+    """Before, these went to pandas' month-first guess: 03.04. was the 4th of March, and
+    midnight a jump of a month that the reader refused as a gap."""
+    raw = pd.Series([x.strftime(fmt) + suffix for x in _MIDNIGHT])
+    assert raw[0] == first
+    t, start, notes = parse_times(raw)
+    np.testing.assert_array_equal(t, 10.0 * np.arange(30))
+    assert start == pd.Timestamp("2024-04-03 23:58:00")
+    assert all("month first" not in n for n in notes)
+
+
+def test_milliseconds_after_a_comma_are_read():
+    raw = pd.Series(["03.04.2024 23:59:59,250", "03.04.2024 23:59:59,750",
+                     "04.04.2024 00:00:00,250"])  # fmt: skip
+    t, start, _ = parse_times(raw)
+    np.testing.assert_allclose(t, [0.0, 0.5, 1.0])
+    assert start == pd.Timestamp("2024-04-03 23:59:59.250")
+
+
+@pytest.mark.parametrize(
+    ("values", "start", "notes"),
+    [
+        # within one day, both orders read: day first, and the note says so
+        (["03.04.24 08:00:00", "03.04.24 08:00:10"], "2024-04-03 08:00:00",
+         ["dates could be day/month or month/day: read day first"]),
+        (["03-04-2024 08:00:00", "03-04-2024 08:00:10"], "2024-04-03 08:00:00",
+         ["dates could be day/month or month/day: read day first"]),
+        # a 13th day settles it; 03.03. reads alike either way: no note
+        (["13.04.24 08:00:00", "13.04.24 08:00:10"], "2024-04-13 08:00:00", []),
+        (["03.03.24 08:00:00", "03.03.24 08:00:10"], "2024-03-03 08:00:00", []),
+    ],
+)  # fmt: skip
+def test_day_month_order_of_a_file_within_one_day_is_noted(values, start, notes):
+    t, got, got_notes = parse_times(pd.Series(values))
+    np.testing.assert_array_equal(t, [0.0, 10.0])
+    assert got == pd.Timestamp(start) and got_notes == notes
+
+
+def test_a_13th_day_late_in_the_column_settles_a_dashed_date():
+    """The order check runs for every day-month format, not only for slashes: a sample of
+    days <= 12 in a month-first dashed column (read day first at first) is corrected."""
+    stamps = pd.date_range("2024-01-12 00:00", periods=400, freq="5min")
+    raw = pd.Series(stamps.strftime("%m-%d-%Y %H:%M"))  # 01-13-2024 from row 289 on
+    assert raw[287] == "01-12-2024 23:55" and raw[288] == "01-13-2024 00:00"
+    t, start, notes = parse_times(raw)
+    np.testing.assert_array_equal(t, 300.0 * np.arange(400))
+    assert start == stamps[0] and notes == []
+
+
+def test_month_first_with_am_pm_crossing_midnight():
+    raw = pd.Series([f"{x.month}/{x.day}/{x.year} {(x.hour % 12) or 12}:{x.minute:02d}:"
+                     f"{x.second:02d} {x:%p}" for x in _MIDNIGHT])  # fmt: skip
+    t, start, notes = parse_times(raw)
+    np.testing.assert_array_equal(t, 10.0 * np.arange(30))
+    assert start == pd.Timestamp("2024-04-03 23:58:00")
+    assert notes == ["dates could be day/month or month/day: read month first"]

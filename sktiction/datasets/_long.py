@@ -37,18 +37,27 @@ from ._timestamps import TimeError, count, parse_times
 __all__ = ["long_columns", "paired_table", "pivot_long", "time_owners"]
 
 # Column names of each role, most telling first: with a "Tag" and a "Name" (a description)
-# the tag is "Tag", with a "Value" and an "Average" the value is "Value".
+# the tag is "Tag", with a "Value" and an "Average" the value is "Value". German, French,
+# Spanish and Dutch names follow the English ones.
 _TAG = ("tag", "tagname", "tag_name", "tagpath", "tag_path", "pointname", "point_name",
         "point", "itemid", "item_id", "itemname", "item_name", "item", "element", "name",
-        "signal", "variable", "series", "sensor", "varname")  # fmt: skip
-_PARAMETER = ("parameter", "param", "attribute", "field", "property")
+        "signal", "variable", "series", "sensor", "varname",
+        "messstelle", "variablenname", "nom", "nombre", "naam")  # fmt: skip
+_PARAMETER = ("parameter", "param", "attribute", "field", "property", "parametre",
+              "parámetro", "parametro")  # fmt: skip
 _VALUE = ("value", "ip_trend_value", "_value", "val", "values", "reading", "avg", "average",
-          "mean", "varvalue")  # fmt: skip
+          "mean", "varvalue",
+          "wert", "messwert", "istwert", "valeur", "valor", "waarde", "meetwaarde",
+          "mittelwert", "moyenne", "promedio", "gemiddelde")  # fmt: skip
 _QUALITY = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qlevel",
-            "q", "questionable", "validity"}  # fmt: skip
+            "q", "questionable", "validity",
+            "qualität", "qualitaet", "qualitat", "qualité", "qualite", "calidad", "kwaliteit",
+            "statut", "estado"}  # fmt: skip
 _TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts",
                "datetime_utc", "timestamp_utc", "time_utc", "zeitstempel", "horodatage",
-               "timestring"}
+               "timestring",
+               "zeitpunkt", "date_heure", "heure", "temps", "fecha", "fecha_hora", "hora",
+               "tiempo", "marca_de_tiempo", "tijd", "tijdstip", "tijdstempel"}  # fmt: skip
 # Siemens WinCC writes Time_ms beside its TimeString: days since 1899-12-30 times 10^6, not
 # milliseconds. Beside another time column it is not the time.
 _TIME_SHADOW = {"time_ms"}
@@ -111,7 +120,7 @@ def long_columns(names, is_time, channels=None):
 def _date_column(norm, hits):
     """``(date, others)``: of two time columns, a date and a time of day (``Tag, Date,
     Time, Value``), the date's position and the other; else ``(None, hits)``."""
-    dates = [i for i in hits if norm[i].endswith(("date", "datum"))]
+    dates = [i for i in hits if norm[i].endswith(("date", "datum", "fecha"))]
     if len(hits) == 2 and len(dates) == 1:
         return dates[0], [i for i in hits if i != dates[0]]
     return None, hits

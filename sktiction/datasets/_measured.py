@@ -30,7 +30,7 @@ from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
 from ._long import long_columns, paired_table, pivot_long, time_owners
-from ._readers import UNIT_SUFFIX, FileError, file_kind, open_tables
+from ._readers import BARE_UNIT, UNIT_SUFFIX, US_SURE, FileError, file_kind, open_tables
 from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
 __all__ = ["list_loop_files", "read_loop_file", "read_loops"]
@@ -65,7 +65,11 @@ _GROUPED = r"\s*[-+]?\d{1,3}(?:\.\d{3})+(?:,\d*)?\s*"  # 1.500,25 or 12.000
 # 1 234,5 (French, also with a no-break space) or 1'234.5 (Swiss): never a decimal mark
 _SPACED = r"\s*[-+]?\d{1,3}(?:['\u00a0\u202f ]\d{3})+(?:[.,]\d*)?\s*"
 _US_GROUPED = r"\s*[-+]?\d{1,3}(?:,\d{3})+(?:\.\d*)?\s*"  # 1,500.25 or 12,000
-_US_SURE = r"\s*[-+]?\d{1,3}(?:(?:,\d{3}){2,}(?:\.\d*)?|,\d{3}\.\d*)\s*"  # 1,500.2 1,000,000
+_US_INTEGER = r"\s*[-+]?[1-9]\d{0,2}(?:,\d{3})+\s*"  # 1,019 or 12,000
+_SMALL_INT = r"\s*[-+]?\d{1,3}\s*"  # 987: an integer below 1000, written without a mark
+# a number written with a decimal comma (50,036 or 1.500,25), left as text in a file read
+# with decimal points
+_COMMA_TEXT = re.compile(r"[-+]?(?:\d{1,3}(?:\.\d{3})+|\d*),\d+")
 # Text in a MODE column: automatic (and cascade) count as closed loop.
 _MODE_TEXT = {"auto": 1.0, "aut": 1.0, "cas": 1.0, "cascade": 1.0, "man": 0.0, "manual": 0.0}
 # Text a historian writes for a missing value; read as NaN without being counted as status.
@@ -158,16 +162,28 @@ def _file_row(path):
 def _split(name):
     """(prefix, channel key) of a column name, or None: full name first, then suffixes.
 
-    A unit in brackets at the end (``FIC1.PV [m3/h]``, ``OP (%)``) is ignored.
+    A unit in brackets at the end (``FIC1.PV [m3/h]``, ``OP (%)``) is ignored, and so is
+    a bare unit (``OP %``, ``PV degC``: :data:`BARE_UNIT`) when the name without it is a
+    channel's; ``Set Point`` is ``SETPOINT``.
     """
     name = UNIT_SUFFIX.sub("", str(name).strip())
+    hit = _split_name(name)
+    bare = BARE_UNIT.search(name)
+    if hit is None and bare is not None and bare.start() > 0:
+        hit = _split_name(name[: bare.start()].rstrip())
+    return hit
+
+
+def _split_name(name):
+    """:func:`_split` of a name without a unit."""
     field = _FIELD.search(name)
     if field is not None:
         # DeltaV ``LIC101/PID1/OUT.CV``: the value field of the OUT channel, not a PV
         inner = _split(name[: field.start()])
         if inner is not None and inner[1] in _LOOP_KEYS:
             return inner
-    low = name.lower()
+    # "Set Point", "FIC1 Set-Point": one word, as the aliases have it (same length)
+    low = re.sub(r"set[ -]point$", "set_point", name.lower())
     if low in _KEY_OF:
         return "", _KEY_OF[low]
     for sep in _TAG_SEPARATORS:
@@ -285,18 +301,20 @@ def _plan(names, channels):
     return time, sorted(loops, key=lambda item: min(item[1].values())), notes
 
 
-def _numeric(col, name, decimal, strict):
+def _numeric(col, name, decimal, strict, thousands=None):
     """Column as float; historian status text becomes NaN and is counted.
 
-    Returns ``(values, counts, note)`` with ``counts`` a Counter of the text values
-    replaced and ``note`` saying how thousands separators were read ("" if none).
+    ``thousands=","``: the file's other numbers show the comma to group thousands (see
+    :func:`_us_grouping`). Returns ``(values, counts, note)`` with ``counts`` a Counter of
+    the text values replaced and ``note`` saying how thousands separators were read (""
+    if none).
     """
     if col.dtype.kind in "fiub":
         return col.to_numpy(dtype=float, na_value=np.nan), Counter(), ""
     text = col.astype(object)
     note = ""
     if decimal == ".":
-        text, note = _us_grouping(col, name)
+        text, note = _us_grouping(col, name, sure=thousands == ",")
     if decimal == ",":
         text = col.astype(str)
         # with a decimal comma a point groups thousands (1.500,25): only where it does so
@@ -346,13 +364,16 @@ def _spaced_grouping(col, values, bad, decimal, name):
     )
 
 
-def _us_grouping(col, name):
+def _us_grouping(col, name, sure=False):
     """Text column with US thousands separators (``1,003.729``) removed, and a note.
 
     Only where no cell can be a decimal comma: every cell holding a comma is grouped in
     threes (``d,ddd[.dd]``), and some cell shows both a comma and a decimal point
-    (``1,003.7``) or several groups (``1,000,000``). ``"1,500"`` could be 1.5 written with
-    a decimal comma, so a column whose only commas are such cells stays as it is (text).
+    (``1,003.7``) or several groups (``1,000,000``), in this column or, with ``sure``, in
+    another of the file; or the comma cells are integers (``1,019``) beside integers
+    below 1000 (``987``: 1.019 beside it would be a jump of a thousand times).
+    ``"1,500"`` could be 1.5 written with a decimal comma, so otherwise a column whose
+    only commas are such cells stays as it is (text).
     """
     text = col.astype(str)
     comma = text.str.contains(",", regex=False).to_numpy() & col.notna().to_numpy()
@@ -361,7 +382,9 @@ def _us_grouping(col, name):
     with_comma = text[comma]
     if not with_comma.str.fullmatch(_US_GROUPED).all():
         return col.astype(object), ""
-    if not with_comma.str.fullmatch(_US_SURE).any():
+    small = text[~comma & col.notna().to_numpy()].str.fullmatch(_SMALL_INT).any()
+    whole = with_comma.str.fullmatch(_US_INTEGER).all()
+    if not (sure or small and whole) and not with_comma.str.fullmatch(US_SURE).any():
         return col.astype(object), ""
     text = text.where(~comma, text.str.replace(",", "", regex=False)).where(col.notna(), None)
     n = count(int(comma.sum()), "value")
@@ -453,7 +476,8 @@ def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
             def to_numbers(col, tag):
                 if channel_key(tag) == "mode":
                     return _mode(col), []
-                values, counts, note = _numeric(col, tag, decimal, strict)
+                values, counts, note = _numeric(col, tag, decimal, strict,
+                                                table.info.get("thousands"))  # fmt: skip
                 return values, [note] * bool(note) + [_status_note(counts, tag)] * bool(counts)
 
             # the wide time column keeps its name where the wide readers know it (a unit
@@ -478,7 +502,8 @@ def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
     if n == 0:
         raise FileError("file has no data rows")
     decimal = "," if "decimal comma" in info["notes"] else "."
-    values, loop_notes = _channel_values(frame, loops, names, decimal, strict)
+    values, loop_notes = _channel_values(frame, loops, names, decimal, strict,
+                                         info.get("thousands"), info["format"])  # fmt: skip
     start, step = pd.NaT, None
     if time_pos:
         raw = frame[time_pos[0]]
@@ -612,11 +637,16 @@ def manual_gaps(X, rows):
     return X
 
 
-def _channel_values(frame, loops, names, decimal, strict):
-    """Every loop's pv, op, sp, mode side by side as floats, and notes per loop."""
+def _channel_values(frame, loops, names, decimal, strict, thousands=None, kind="csv"):
+    """Every loop's pv, op, sp, mode side by side as floats, and notes per loop.
+
+    ``thousands`` as in :func:`_numeric`; ``kind`` the file's format, for the advice when
+    text values are numbers with a decimal comma (see :func:`_comma_text_note`).
+    """
     values = np.full((len(frame), 4 * len(loops)), np.nan)
     loop_notes = [[] for _ in loops]
     for j, (_, g) in enumerate(loops):
+        texts = Counter()
         for k, key in enumerate(_LOOP_KEYS):
             if key not in g:
                 continue
@@ -624,12 +654,37 @@ def _channel_values(frame, loops, names, decimal, strict):
             if key == "mode":
                 values[:, 4 * j + k] = _mode(col)
                 continue
-            values[:, 4 * j + k], counts, note = _numeric(col, names[g[key]], decimal, strict)
+            values[:, 4 * j + k], counts, note = _numeric(
+                col, names[g[key]], decimal, strict, thousands
+            )
             if note:
                 loop_notes[j].append(note)
             if counts:
                 loop_notes[j].append(_status_note(counts, key.upper()))
+                texts += counts
+        hint = _comma_text_note(texts, kind)
+        if hint:
+            loop_notes[j].insert(0, hint)
     return values, loop_notes
+
+
+def _comma_text_note(counts, kind):
+    """What to do when most text values (a Counter) are numbers written with a decimal
+    comma in a file read with decimal points (quoted cells of a ``,``-separated file,
+    text cells of a workbook): "" otherwise."""
+    n = sum(counts.values())
+    comma = [v for v in counts if _COMMA_TEXT.fullmatch(v)]
+    if n == 0 or sum(counts[v] for v in comma) <= n / 2:
+        return ""
+    fixes = {
+        "xlsx": "make the cells numbers (in Excel: Data > Text to Columns) or save the sheet "
+                "as CSV with ';' between the columns",
+        "csv": "export the file with ';' between the columns (which leaves the comma to the "
+               "decimals) or with decimal points",
+    }  # fmt: skip
+    fix = fixes.get(kind, "write them with decimal points")
+    return (f"text values such as {comma[0]!r} look like numbers with a decimal comma, in a "
+            f"file whose decimal mark is a point: {fix}")  # fmt: skip
 
 
 def _strict_order(t, raw):
@@ -683,7 +738,8 @@ def read_loop_file(
         a sheet without a tag prefix named after its sheet) and ``.parquet`` (needs
         pyarrow).
         Long tables (a tag, a time and a value column, optionally a parameter such as
-        ``PV`` beside the tag and a quality column) are pivoted to one column per tag
+        ``PV`` beside the tag and a quality column; English, German, French, Spanish or
+        Dutch names such as ``Name, Zeit, Wert``) are pivoted to one column per tag
         (``tag`` or ``tag.parameter``); tags recorded at their own times hold their last
         record on a grid at the scan period their records fall on (or ``ts``).
     channels : dict or None, default=None
@@ -696,7 +752,8 @@ def read_loop_file(
         OP/MV/OUT/CO, SP from SP/SV/SPT/SETPOINT, time from
         TIME/T/T_S/TIMESTAMP/DATETIME/DATE or German ZEIT/ZEITSTEMPEL/DATUM/UHRZEIT (a
         DATE or DATUM and a TIME or UHRZEIT column are joined), mode from MODE. A unit in
-        brackets ending a name is ignored (``FIC1.PV [m3/h]``), except that relative times
+        brackets ending a name is ignored (``FIC1.PV [m3/h]``), and so is a bare one
+        (``OP %``, ``PV degC``; ``Set Point`` is SETPOINT), except that relative times
         named in ``[ms]``, ``[min]``, ``[h]`` (or ``_ms``, ``_min``, ``_h``) are scaled to
         seconds. Several prefixes with a PV each give one loop per
         prefix; untagged columns beside a single tagged loop belong to it.

@@ -7,8 +7,9 @@ Layouts:
   flags...``. Line 1 holds the time format, line 2 the start time and the declared row
   count, line 3 the column names, line 4 descriptions, line 5 grid settings.
 * **delimited text** (``.csv``, ``.txt``, ``.tsv``): separator (tab, ``;``, ``|`` or ``,``)
-  and decimal mark judged from the data rows; title or comment lines before the header
-  row and a units row after it are skipped and noted; an Excel ``sep=;`` line is obeyed.
+  judged from the data rows, decimal mark from rows spread over the whole file; title or
+  comment lines before the header row and a units row after it are skipped and noted; an
+  Excel ``sep=;`` line is obeyed.
   Encodings: UTF-8 (with or without BOM), UTF-16 (BOM or not), GB18030 (Chinese
   historian descriptions), else latin-1.
 * **Excel workbook** (``.xlsx``, needs openpyxl): every sheet holding loop columns (else
@@ -53,6 +54,13 @@ _COMMENT = ("#", "//", "%", "!")
 _DATE_LIKE = re.compile(r"\d{1,4}[-/.:]\d{1,2}[-/.:]\d{1,4}")
 #: A unit in brackets ending a column name (``FIC1.PV [m3/h]``, ``OP (%)``).
 UNIT_SUFFIX = re.compile(r"\s*[\[(][^\])]*[\])]$")
+#: A unit without brackets ending a column name: a ``%`` (``OP %``, ``OP%``) or a common
+#: process unit after a space (``PV degC``, ``FIC1.PV m3/h``, ``time min``).
+BARE_UNIT = re.compile(
+    r"(\s*%|\s+(deg\s?[CF]|°\s?[CF]|[CF]°|K|m?bar[ag]?|[kM]?Pa[ag]?|psi[ag]?|N?m3/[hs]|"
+    r"[kK]g/[hs]|t/h|l/(h|min|s)|gpm|mm|cm|m|mA|V|rpm|Hz|ppm|ms|s|min|h))$",
+    re.IGNORECASE,
+)
 _NUMBER = re.compile(r"^\s*[-+]?(\d+([.,]\d*)?|[.,]\d+)([eE][-+]?\d+)?\s*$")
 
 
@@ -159,7 +167,10 @@ class Table:
     """One file's column names, with a method to read some columns as a DataFrame.
 
     ``info`` holds ``format``, ``tag`` (from the file, else None), ``time_format``,
-    ``declared_rows`` and ``notes`` (things the reader did, for ``meta.reason``).
+    ``declared_rows`` and ``notes`` (things the reader did, for ``meta.reason``); a text
+    file's also ``thousands``: ``","`` when some of its numbers show US grouping
+    (``1,500.25``: a comma between groups of three digits then groups thousands in every
+    column), ``"."`` with a decimal comma, else None.
     """
 
     def __init__(self, names, info, reader):
@@ -250,8 +261,14 @@ def _time_format(java_format):
     return fmt if "%" in fmt else None
 
 
-_COMMA_DECIMAL = re.compile(r"\s*[-+]?\d*,\d+\s*")
-_POINT_DECIMAL = re.compile(r"\s*[-+]?\d*\.\d+([eE][-+]?\d+)?\s*")
+_COMMA_DECIMAL = re.compile(r"\s*[-+]?(\d*|\d{1,3}(\.\d{3})+),\d+\s*")  # 0,5 or 1.500,25
+_POINT_DECIMAL = re.compile(r"\s*[-+]?(\d*|\d{1,3}(,\d{3})+)\.\d+([eE][-+]?\d+)?\s*")
+# 1.019 or 49,998: thousands grouped by the mark, or three decimals after it
+_GROUPS_OF_3 = {mark: re.compile(rf"\s*[-+]?[1-9]\d{{0,2}}(\{mark}\d{{3}})+\s*") for mark in ".,"}
+#: A number only US thousands grouping writes: ``1,500.25``, ``1,000,000``.
+US_SURE = r"\s*[-+]?\d{1,3}(?:(?:,\d{3}){2,}(?:\.\d*)?|,\d{3}\.\d*)\s*"
+_SMALL_INT = re.compile(r"\s*[-+]?\d{1,3}\s*")  # an integer below 1000, no mark
+_SPREAD = (16, 4096)  # chunks and bytes of each read across a long file for the decimal mark
 
 
 def _past_summary_rows(lines, header, sep, n_fields):
@@ -279,8 +296,10 @@ def _stamped_rows(lines, sep):
     return n
 
 
-def _delimited_header(lines, notes):
-    """Separator, decimal mark, header row index, names and rows to skip after it."""
+def _delimited_header(lines, notes, spread=()):
+    """Separator, decimal mark, header row index, names, rows to skip after it and the
+    thousands separator (None if not known). ``spread``: rows from further on in the
+    file, which the decimal mark is judged on too (see :func:`_decimal_mark`)."""
     start = 0
     if lines and lines[0].lstrip("\ufeff").lower().startswith("sep=") and len(lines[0]) >= 5:
         sep, n_fields, start = lines[0].lstrip("\ufeff")[4], None, 1
@@ -312,13 +331,16 @@ def _delimited_header(lines, notes):
         skipped = count(header - start, "line")
         notes.append(f"{skipped} before the header skipped (titles or comments)")
     names = [f.strip().strip("\ufeff") for f in _fields(lines[header].lstrip("\ufeff"), sep)]
-    decimal = "."
-    if sep != ",":  # with comma-separated fields the decimal mark can only be a point
-        data = [ln for ln in lines[header + 1 :] if ln.strip()]
-        fields = [f for ln in data[:200] for f in _fields(ln, sep)]
-        comma = sum(bool(_COMMA_DECIMAL.fullmatch(f)) for f in fields)
-        point = sum(bool(_POINT_DECIMAL.fullmatch(f)) for f in fields)
-        decimal = "," if comma > point else "."
+    data = [ln for ln in lines[header + 1 :] if ln.strip()]
+    data = data[:: -(-len(data) // 200) or 1] + list(spread)  # 200 rows over the head
+    # with comma-separated fields the decimal mark can only be a point
+    decimal, thousands = _decimal_mark(data, sep) if sep != "," else (".", None)
+    if sep == "," or decimal == ".":
+        # a number only US grouping writes (1,500.25, 1,000,000): the comma groups thousands
+        # in the file's other cells too (1,019)
+        us = re.compile(US_SURE)
+        sure = any(us.fullmatch(f) for ln in data for f in _fields(ln, sep))
+        thousands = "," if sure else None
     if decimal == ",":
         notes.append("decimal comma")
     skip_after = 0
@@ -328,7 +350,70 @@ def _delimited_header(lines, notes):
         if first and not any(_is_number(f) or _DATE_LIKE.search(f) for f in first):
             skip_after = after - header  # a units or description row
             notes.append("1 row after the header skipped (units or descriptions)")
-    return sep, decimal, header, names, skip_after
+    return sep, decimal, header, names, skip_after, thousands
+
+
+def _decimal_mark(rows, sep):
+    """``(decimal, thousands)`` of the data ``rows`` of a file whose fields ``sep`` splits.
+
+    Numbers that can only be read one way vote: ``0,5``, ``50,0134`` or ``1.500,25`` for
+    the comma, ``0.5``, ``50.25`` or ``1,500.25`` for the point. With no majority (often
+    no such number at all), a column holding integers below 1000 beside ``1.019`` and
+    nothing else (the German format ``#.##0``: 1019 kg/h) shows the point to group
+    thousands, and so the comma to be the decimal mark; else the numbers with one mark
+    before groups of three digits (``1.019``, ``49,998``) vote, and a tie is a point.
+    With a decimal comma the point groups thousands (a cell ``49.998`` is 49998: the
+    European reading).
+    """
+    votes = {",": 0, ".": 0}  # numbers of one reading only
+    grouped = {",": 0, ".": 0}  # numbers of a mark before groups of three digits
+    columns = {}  # column -> kinds of cells seen in it
+    for ln in rows:
+        for i, f in enumerate(_fields(ln, sep)):
+            if _GROUPS_OF_3["."].fullmatch(f):
+                kind = "."
+            elif _GROUPS_OF_3[","].fullmatch(f):
+                kind = ","
+            elif _COMMA_DECIMAL.fullmatch(f) or _POINT_DECIMAL.fullmatch(f):
+                kind = "sure"
+                votes["," if "," in f.rsplit(".", 1)[-1] else "."] += 1
+            elif _SMALL_INT.fullmatch(f):
+                kind = "int"
+            else:
+                continue
+            columns.setdefault(i, set()).add(kind)
+            if kind in grouped:
+                grouped[kind] += 1
+    if votes[","] != votes["."]:
+        decimal = "," if votes[","] > votes["."] else "."
+    elif any(kinds == {".", "int"} for kinds in columns.values()):
+        decimal = ","  # 987 beside 1.019: the point groups thousands
+    else:
+        decimal = "," if grouped[","] > grouped["."] else "."
+    return decimal, ("." if decimal == "," else None)
+
+
+def _spread_rows(path, raw, encoding):
+    """Lines read from a few places spread over the file after its first ``raw`` bytes,
+    each whole (the cut lines at both ends of a read dropped): a sample of the whole file,
+    at the cost of some small reads."""
+    size = path.stat().st_size
+    n, chunk = _SPREAD
+    if size <= len(raw) + chunk:
+        return []
+    if encoding == "utf-16":  # the BOM says the byte order; reads inside have none
+        encoding = "utf-16-le" if raw.startswith(codecs.BOM_UTF16_LE) else "utf-16-be"
+    encoding = "utf-8" if encoding == "utf-8-sig" else encoding
+    step = 2 if encoding.startswith("utf-16") else 1
+    rows = []
+    with open(path, "rb") as fh:
+        for k in range(1, n + 1):
+            at = len(raw) + (size - len(raw) - chunk) * k // n
+            fh.seek(at - at % step)
+            text = fh.read(chunk).decode(encoding, errors="replace")
+            lines = re.split(r"\r\n|\r|\n", text)[1:-1]
+            rows += [ln for ln in lines if ln.strip()]
+    return rows
 
 
 def _open_text(path):
@@ -355,8 +440,12 @@ def _open_text(path):
         sep, decimal, skip = "\t", ".", 5
         notes.clear()  # GB18030 descriptions are normal for these exports
     else:
-        sep, decimal, header, names, skip_after = _delimited_header(lines, notes)
-        info = {"format": "csv", "tag": None, "time_format": None, "declared_rows": None}
+        spread = _spread_rows(path, raw, encoding) if more else []
+        sep, decimal, header, names, skip_after, thousands = _delimited_header(
+            lines, notes, spread
+        )
+        info = {"format": "csv", "tag": None, "time_format": None, "declared_rows": None,
+                "thousands": thousands}  # fmt: skip
         skip = header + 1 + skip_after
     info["notes"] = notes
 

@@ -28,9 +28,14 @@ _EPOCH_NAMES = {
 }  # fmt: skip
 # Text formats tried after the file's own format and ISO 8601: day-first before month-first
 # (a record longer than 12 days settles the order; otherwise the ambiguity is noted).
+# Milliseconds after a comma are German Excel's (``03.04.2024 22:00:00,000``); two-digit
+# years are DCS exports' (``03.04.24``).
 _TEXT_FORMATS = (
-    "%d.%m.%Y %H:%M:%S.%f", "%d.%m.%Y %H:%M:%S", "%d.%m.%Y %H:%M",
-    "%d/%m/%Y %H:%M:%S.%f", "%d/%m/%Y %H:%M:%S", "%d/%m/%Y %H:%M",
+    "%d.%m.%Y %H:%M:%S.%f", "%d.%m.%Y %H:%M:%S,%f", "%d.%m.%Y %H:%M:%S", "%d.%m.%Y %H:%M",
+    "%d.%m.%Y %I:%M:%S %p",
+    "%d.%m.%y %H:%M:%S.%f", "%d.%m.%y %H:%M:%S,%f", "%d.%m.%y %H:%M:%S", "%d.%m.%y %H:%M",
+    "%d/%m/%Y %H:%M:%S.%f", "%d/%m/%Y %H:%M:%S,%f", "%d/%m/%Y %H:%M:%S", "%d/%m/%Y %H:%M",
+    "%d-%m-%Y %H:%M:%S.%f", "%d-%m-%Y %H:%M:%S,%f", "%d-%m-%Y %H:%M:%S", "%d-%m-%Y %H:%M",
     "%m/%d/%Y %H:%M:%S.%f", "%m/%d/%Y %H:%M:%S", "%m/%d/%Y %H:%M", "%m/%d/%Y %I:%M:%S %p",
     "%Y/%m/%d %H:%M:%S.%f", "%Y/%m/%d %H:%M:%S", "%Y%m%d %H:%M:%S",
 )  # fmt: skip
@@ -245,6 +250,21 @@ def _irregular(stamps):
     return int((dt < 0).sum() + (np.abs(forward - step) > 0.01 * step).sum())
 
 
+def _day_month(fmt):
+    """``"day"`` or ``"month"``: which a date format puts first when it starts with day
+    and month (``%d.%m.%Y``, ``%m/%d/%Y``), else None."""
+    for code, order in (("%d", "day"), ("%m", "month")):
+        other = "%m" if code == "%d" else "%d"
+        if fmt.startswith(code) and fmt[2:].lstrip(".-/ ").startswith(other):
+            return order
+    return None
+
+
+def _swap_day_month(fmt):
+    """``fmt`` with its leading day and month swapped (``%d.%m.%y`` -> ``%m.%d.%y``)."""
+    return fmt.replace("%d", "\0").replace("%m", "%d").replace("\0", "%m")
+
+
 def _text_times(raw, time_format):
     """Parse text (or datetime objects) to datetimes; return (stamps, notes)."""
     strings = isinstance(raw.dtype, pd.StringDtype) or raw.map(_is_text).all()
@@ -279,11 +299,12 @@ def _text_times(raw, time_format):
         fmt = candidates[best]
     notes = []
     stamps = _parse_offsets(raw, fmt, clean)
-    if "%d/%m" in fmt:
+    order = _day_month(fmt)
+    if order is not None:
         # The sample may hold only days <= 12: the whole column settles the order, also
         # against a declared pattern that the data contradict. Where the data allow both
         # orders, a declared pattern is the file's word and needs no note.
-        other = fmt.replace("%d/%m", "%m/%d")
+        other = _swap_day_month(fmt)
         if stamps.isna().sum() > raw.isna().sum():
             swapped = _parse_all(raw, other, clean)
             if swapped.isna().sum() < stamps.isna().sum():
@@ -291,7 +312,7 @@ def _text_times(raw, time_format):
                     missed = int(stamps.isna().sum() - raw.isna().sum())
                     notes.append(
                         f"the declared date pattern does not fit {missed} values: "
-                        "read month first"
+                        f"read {_day_month(other)} first"
                     )
                 stamps, fmt = swapped, other
         elif fmt != time_format and _fits(sample, other):
@@ -299,13 +320,14 @@ def _text_times(raw, time_format):
             swapped = _parse_all(raw, other, clean)
             if swapped.isna().sum() == stamps.isna().sum():  # both orders read every date
                 if _irregular(swapped) < _irregular(stamps):
-                    # day first would make every midnight a jump of a month (or a step
+                    # one order would make every midnight a jump of a month (or a step
                     # back): the order giving the more regular time axis is the file's
-                    notes.append("dates could be day/month or month/day: read month first "
-                                 "(day first gives an irregular time axis)")  # fmt: skip
+                    notes.append(f"dates could be day/month or month/day: read "
+                                 f"{_day_month(other)} first ({order} first gives an "
+                                 "irregular time axis)")  # fmt: skip
                     stamps, fmt = swapped, other
-                else:
-                    notes.append("dates could be day/month or month/day: read day first")
+                elif not swapped.equals(stamps):  # (03.03.: both orders give one date)
+                    notes.append(f"dates could be day/month or month/day: read {order} first")
     if getattr(stamps.dt, "tz", None) is not None:
         stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
         notes.append("time zone offsets converted to UTC")
