@@ -323,23 +323,11 @@ def _freezes(x, same, other_runs, step):
     return held, held_len, float(lengths[alone][off_grid].sum() / n)
 
 
-def _run_length(same):
-    """Mean length (samples) of runs of True; NaN without runs."""
-    if not same.any():
-        return np.nan
-    edges = np.diff(np.concatenate([[0], same.astype(np.int8), [0]]))
-    return float(same.sum() / (edges == 1).sum())
-
-
 def _min_change(x):
     """Smallest non-zero change (the grid step of quantised values); NaN if none."""
     d = np.abs(np.diff(x))
     d = d[d > 1e-12 * max(float(np.ptp(x)), 1e-300)]
     return float(d.min()) if len(d) else np.nan
-
-
-def _robust_var(x):
-    return (1.4826 * np.median(np.abs(x - np.median(x)))) ** 2
 
 
 def _masked_acf(d, ok, max_lag):
