@@ -96,12 +96,10 @@ def _spike_limit(x, d):
     return max(limit, 0.6 * (hi - lo))
 
 
-def _end_runs(y, d, big, limit):
-    """Spikes among the first and last :data:`MAX_SPIKE_WIDTH` samples, which have one
-    neighbour only: a run at an end of ``y`` beyond ``limit`` from the sample next to it,
-    reached by the only jump that large within :data:`_QUIET` samples. A "Bad" value in
-    the last row otherwise stays and sets the record's span; what is lost instead is a
-    real slip in the last rows, one to three samples of it."""
+def _tail_run(y, d, big, limit):
+    """Spike samples among the last :data:`MAX_SPIKE_WIDTH` of ``y``, which have one
+    neighbour only: a run at the end beyond ``limit`` from the sample before it, reached by
+    the only jump that large within :data:`_QUIET` samples."""
     found = np.zeros(y.size, dtype=bool)
     m = y.size
     for w in range(1, MAX_SPIKE_WIDTH + 1):
@@ -112,15 +110,15 @@ def _end_runs(y, d, big, limit):
             if ((y[j + 1 :] - y[j]) * np.sign(d[j]) > limit).all():
                 found[j + 1 :] = True
                 break
-    for w in range(1, MAX_SPIKE_WIDTH + 1):
-        if m < w + 2 + _QUIET:
-            break
-        j = w - 1  # the jump out of the run at the start
-        if big[j] and not big[j + 1 : j + 1 + _QUIET].any():
-            if ((y[j + 1] - y[: j + 1]) * np.sign(d[j]) > limit).all():
-                found[: j + 1] = True
-                break
     return found
+
+
+def _end_runs(y, d, big, limit):
+    """:func:`_tail_run` at both ends of ``y`` (the start read backwards). A "Bad" value in
+    the last row otherwise stays and sets the record's span; what is lost instead is a
+    real slip in the last rows, one to three samples of it."""
+    head = _tail_run(y[::-1], -d[::-1], big[::-1], limit)[::-1]
+    return _tail_run(y, d, big, limit) | head
 
 
 def spike_mask(x):

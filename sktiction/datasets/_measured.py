@@ -30,7 +30,16 @@ from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
 from ._long import long_columns, paired_table, pivot_long, time_owners
-from ._readers import BARE_UNIT, UNIT_SUFFIX, US_SURE, FileError, file_kind, open_tables
+from ._readers import (
+    BARE_UNIT,
+    SMALL_INT,
+    UNIT_SUFFIX,
+    US_INTEGER,
+    US_SURE,
+    FileError,
+    file_kind,
+    open_tables,
+)
 from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
 __all__ = ["list_loop_files", "read_loop_file", "read_loops"]
@@ -65,8 +74,6 @@ _GROUPED = r"\s*[-+]?\d{1,3}(?:\.\d{3})+(?:,\d*)?\s*"  # 1.500,25 or 12.000
 # 1 234,5 (French, also with a no-break space) or 1'234.5 (Swiss): never a decimal mark
 _SPACED = r"\s*[-+]?\d{1,3}(?:['\u00a0\u202f ]\d{3})+(?:[.,]\d*)?\s*"
 _US_GROUPED = r"\s*[-+]?\d{1,3}(?:,\d{3})+(?:\.\d*)?\s*"  # 1,500.25 or 12,000
-_US_INTEGER = r"\s*[-+]?[1-9]\d{0,2}(?:,\d{3})+\s*"  # 1,019 or 12,000
-_SMALL_INT = r"\s*[-+]?\d{1,3}\s*"  # 987: an integer below 1000, written without a mark
 # a number written with a decimal comma (50,036 or 1.500,25), left as text in a file read
 # with decimal points
 _COMMA_TEXT = re.compile(r"[-+]?(?:\d{1,3}(?:\.\d{3})+|\d*),\d+")
@@ -382,8 +389,8 @@ def _us_grouping(col, name, sure=False):
     with_comma = text[comma]
     if not with_comma.str.fullmatch(_US_GROUPED).all():
         return col.astype(object), ""
-    small = text[~comma & col.notna().to_numpy()].str.fullmatch(_SMALL_INT).any()
-    whole = with_comma.str.fullmatch(_US_INTEGER).all()
+    small = text[~comma & col.notna().to_numpy()].str.fullmatch(SMALL_INT).any()
+    whole = with_comma.str.fullmatch(US_INTEGER).all()
     if not (sure or small and whole) and not with_comma.str.fullmatch(US_SURE).any():
         return col.astype(object), ""
     text = text.where(~comma, text.str.replace(",", "", regex=False)).where(col.notna(), None)

@@ -267,7 +267,11 @@ _POINT_DECIMAL = re.compile(r"\s*[-+]?(\d*|\d{1,3}(,\d{3})+)\.\d+([eE][-+]?\d+)?
 _GROUPS_OF_3 = {mark: re.compile(rf"\s*[-+]?[1-9]\d{{0,2}}(\{mark}\d{{3}})+\s*") for mark in ".,"}
 #: A number only US thousands grouping writes: ``1,500.25``, ``1,000,000``.
 US_SURE = r"\s*[-+]?\d{1,3}(?:(?:,\d{3}){2,}(?:\.\d*)?|,\d{3}\.\d*)\s*"
-_SMALL_INT = re.compile(r"\s*[-+]?\d{1,3}\s*")  # an integer below 1000, no mark
+#: An integer in US thousands grouping: ``1,019``, ``12,000``.
+US_INTEGER = _GROUPS_OF_3[","].pattern
+#: An integer below 1000 written without a mark: ``987``.
+SMALL_INT = r"\s*[-+]?\d{1,3}\s*"
+_SMALL_INT = re.compile(SMALL_INT)
 _SPREAD = (16, 4096)  # chunks and bytes of each read across a long file for the decimal mark
 
 
