@@ -595,16 +595,13 @@ def test_nan_gap_is_bridged_linearly_and_counted():
             assert gappy[col] == pytest.approx(filled[col], rel=1e-9, nan_ok=True), col
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG: NaN at the start of a record (or at the end of "
-    "OP) is extended flat by _fill and read as frozen runs and held rows",
-)
 def test_nan_at_the_record_edges_is_no_frozen_run():
     """White noise whose first 100 rows (PV and OP) are missing: nothing repeats, as for the
-    same gap inside the record (bridged linearly: no repeats, no hold). Today: 100 repeats
-    in both tags, hold_fraction 0.1, hold_run_length 100 (a historian hold), and the
-    applicability check's repeat shares (_repeat_fractions) 0.1."""
+    same gap inside the record (bridged linearly: no repeats, no hold). Extended flat, as
+    they once were, the missing rows gave 100 repeats in both tags, hold_fraction 0.1 and
+    hold_run_length 100 (a historian hold), and the applicability check's repeat shares
+    (_repeat_fractions) 0.1. Missing edge rows (OP's last ones too) leave every statistic
+    but the record's length and NaN share as the record without them gives."""
     rng = np.random.default_rng(23)
     n = 1000
     x = np.stack([rng.standard_normal(n), 50 + rng.standard_normal(n), np.zeros(n)], -1)
@@ -619,6 +616,15 @@ def test_nan_at_the_record_edges_is_no_frozen_run():
     assert st._repeat_fractions(lead) == (0.0, 0.0)
     assert s["pv_repeat_fraction"] == 0.0 and s["op_repeat_fraction"] == 0.0
     assert s["hold_fraction"] == 0.0
+    tail = lead.copy()
+    tail[-50:, 1] = np.nan  # OP's transmitter lost for the last 50 rows
+    assert st._repeat_fractions(tail) == (0.0, 0.0)
+    with_edges = loop_statistics(tail[None]).iloc[0]
+    without = loop_statistics(x[None, 100:-50]).iloc[0]
+    assert with_edges["n_samples"] == n and with_edges["nan_fraction"] == 0.125
+    for col in STATISTIC_COLUMNS:
+        if col not in ("n_samples", "nan_fraction"):
+            assert with_edges[col] == pytest.approx(without[col], rel=1e-12, nan_ok=True), col
 
 
 def test_constant_and_short_loops():

@@ -239,6 +239,24 @@ def _clean_channel(x):
     return _Channel(span, clean, spikes, noise, same, rep)
 
 
+def _recorded_rows(x):
+    """``x`` cut to the rows from the first to the last one where PV, and OP when it holds
+    numbers, are both recorded.
+
+    Missing rows at a record's edges have one neighbour only: bridged like an inner gap,
+    they would be extended flat and read as a tag frozen there (a historian hold). They are
+    left out instead, as the padding is; ``nan_fraction`` still counts them.
+    """
+    ok = np.isfinite(x[:, PV])
+    op_ok = np.isfinite(x[:, OP])
+    if op_ok.any():
+        ok &= op_ok
+    rows = np.flatnonzero(ok)
+    if len(rows) == 0:
+        return x
+    return x[rows[0] : rows[-1] + 1]
+
+
 def _first_steps(x):
     """The steps every statistic of one loop starts from (``x``: n_samples x 3, padding cut).
 
@@ -282,7 +300,7 @@ def _repeat_fractions(x):
         Share of samples equal to the one before, NaN where :func:`loop_statistics` gives
         NaN (fewer than 8 samples, PV or OP without numbers).
     """
-    _, pv, op = _first_steps(x)
+    _, pv, op = _first_steps(_recorded_rows(x))
     return tuple(np.nan if c is None else c.repeat_fraction for c in (pv, op))
 
 
@@ -414,12 +432,14 @@ def _one_loop(x, ts):
     if n == 0:
         row.update(n_samples=0, ts=ts, has_op=False, has_sp=False)
         return row
-    sp = x[:, SP]
-    has_op, pv_first, op_first = _first_steps(x)
-    has_sp = bool(np.isfinite(sp).any())
+    has_op = bool(np.isfinite(x[:, OP]).any())
+    has_sp = bool(np.isfinite(x[:, SP]).any())
     row.update(n_samples=n, ts=ts, has_op=has_op, has_sp=has_sp)
     chans = x[:, PV] if not has_op else np.concatenate([x[:, PV], x[:, OP]])
     row["nan_fraction"] = float(np.isnan(chans).mean())
+    x = _recorded_rows(x)
+    n, sp = len(x), x[:, SP]
+    _, pv_first, op_first = _first_steps(x)
     if pv_first is None:
         return row
     sp = _fill(sp) if has_sp else sp
