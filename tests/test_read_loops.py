@@ -88,6 +88,31 @@ def test_csv_with_byte_order_mark(tmp_path):
     assert data.meta.loc[0, "ts"] == 2.0
 
 
+def test_wide_quality_columns(tmp_path):
+    """A wide file's quality columns blank the values they call not good, as long exports'
+    do: a channel's own (text, OPC codes, WinCC Validity whose good code is 1), or the
+    row's one Quality column; a Status column with no good value is not a quality."""
+    head = "time,FIC1.PV,FIC1.PV Quality,FIC1.OP,FIC1.OP.Q,FIC1.SP,FIC1.SP Validity\n"
+    rows = [(0, "Good", 192, 1), (1, "Bad", 192, 1), (2, "Good", 0, 1), (3, "Good", 192, 2)]
+    body = "".join(f"{t},{40 + t},{q},{50 + t},{c},45,{v}\n" for t, q, c, v in rows)
+    data = read_loops(write(tmp_path / "own.csv", head + body))
+    np.testing.assert_array_equal(np.isnan(data.X[0]), [[0, 0, 0], [1, 0, 0], [0, 1, 0],
+                                                        [0, 0, 1]])  # fmt: skip
+    reason = data.meta.loc[0, "reason"]
+    for col in ("FIC1.PV Quality", "FIC1.OP.Q", "FIC1.SP Validity"):
+        assert f"1 value of quality other than good read as NaN (column '{col}')" in reason
+
+    body = "".join(f"{t},{40 + t},{50 + t},{q}\n" for t, q, *_ in rows)
+    data = read_loops(write(tmp_path / "row.csv", "time,PV,OP,Quality\n" + body))
+    np.testing.assert_array_equal(np.isnan(data.X[0, :, :2]).any(1), [0, 1, 0, 0])
+    assert data.meta.loc[0, "reason"].count("quality other than good") == 1
+
+    body = "".join(f"{t},{40 + t},{50 + t},{m}\n" for t, m in enumerate("AAMA"))
+    data = read_loops(write(tmp_path / "mode.csv", "time,PV,OP,Status\n" + body))
+    assert not np.isnan(data.X[0, :, :2]).any()
+    assert "column 'Status' not used as quality" in data.meta.loc[0, "reason"]
+
+
 def test_a_day_missing_between_two_shifts_keeps_the_longer_one(tmp_path):
     """Hours of 10 s data with a day between them: the longer stretch is read, from its own
     start, and the note says so (a grid over the missing day would be 96 % empty)."""

@@ -49,7 +49,7 @@ _VALUE = ("value", "ip_trend_value", "_value", "val", "values", "reading", "avg"
           "mean", "varvalue",
           "wert", "messwert", "istwert", "valeur", "valor", "waarde", "meetwaarde",
           "mittelwert", "moyenne", "promedio", "gemiddelde")  # fmt: skip
-_QUALITY = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qlevel",
+QUALITY_NAMES = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qlevel",
             "q", "questionable", "validity",
             "qualität", "qualitaet", "qualitat", "qualité", "qualite", "calidad", "kwaliteit",
             "statut", "estado"}  # fmt: skip
@@ -111,7 +111,7 @@ def long_columns(names, is_time, channels=None):
         time = hits[0]
     found = {"time": time, "date": date, "tag": tag, "value": value,
              "parameter": one(_PARAMETER),
-             "quality": [i for i, n in enumerate(norm) if n in _QUALITY]}  # fmt: skip
+             "quality": [i for i, n in enumerate(norm) if n in QUALITY_NAMES]}  # fmt: skip
     used = {time, date, tag, value, found["parameter"], *found["quality"]} - {None}
     found["unused"] = [i for i in range(len(names)) if i not in used and names[i]]
     return found
@@ -171,15 +171,17 @@ def _keys(frame, cols):
     return tag.where(frame[cols["tag"]].notna())
 
 
-def _bad_quality(col, name):
+def bad_quality(col, name, word=None):
     """Rows whose quality says the value is not good, and a note: text other than good
     (Good, OK, Valid), True in a column named questionable (PI), a code other than 1 in
     one named validity (WinCC), or OPC codes below 192;
-    other numeric codes are the vendor's own and are not read (the note says so)."""
+    other numeric codes are the vendor's own and are not read (the note says so).
+    ``word``: the quality word of a longer ``name`` (``Validity`` of ``FIC1.PV Validity``)."""
     kind = col.dtype.kind
-    if kind in "fiu" and _norm(name) in _GOOD_CODE:
+    word = _norm(name if word is None else word)
+    if kind in "fiu" and word in _GOOD_CODE:
         q = col.to_numpy(dtype=float)
-        bad = np.isfinite(q) & (q != _GOOD_CODE[_norm(name)])
+        bad = np.isfinite(q) & (q != _GOOD_CODE[word])
         return bad, _quality_note(bad, name)
     flag = None  # True / False flags, as bools, integers 0 / 1 or text
     if kind == "b":
@@ -191,7 +193,7 @@ def _bad_quality(col, name):
         if text.isin(_TRUE + _FALSE + ("nan", "none", "")).all():
             flag = text.isin(_TRUE).to_numpy()
     if flag is not None:
-        bad = flag if _norm(name) == "questionable" else ~flag & col.notna().to_numpy()
+        bad = flag if word == "questionable" else ~flag & col.notna().to_numpy()
         return bad, _quality_note(bad, name)
     if kind in "fiu":
         q = col.to_numpy(dtype=float)
@@ -340,7 +342,7 @@ def pivot_long(table, cols, to_numbers, *, loop_of=lambda tag: "", time_name="ti
         values[idx], tag_notes = to_numbers(frame[cols["value"]].iloc[idx], str(k))
         notes += tag_notes
     for q in cols["quality"]:
-        bad, note = _bad_quality(frame[q], names[q])
+        bad, note = bad_quality(frame[q], names[q])
         if bad is not None:
             values[bad] = np.nan
         notes += [note] * bool(note)

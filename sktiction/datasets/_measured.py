@@ -14,7 +14,9 @@ File layouts are in :mod:`sktiction.datasets._readers`, time columns in
 :mod:`sktiction.datasets._timestamps`. Columns are found by name, case-insensitively, also
 after a ``<tag>.``, ``<tag>_``, ``<tag> ``, ``<tag>:``, ``<tag>/`` or ``<tag>|`` prefix (a
 value field ``.CV`` or ``.Value`` after a channel name is dropped); a file with several
-prefixes (``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix.
+prefixes (``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix. A quality
+column beside a channel (``FIC1.PV Quality``, ``PV_Status``) or for the whole row
+(``Quality``) blanks the values it calls not good, as in long exports, with a note.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ import pandas as pd
 from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
-from ._long import long_columns, paired_table, pivot_long, time_owners
+from ._long import QUALITY_NAMES, bad_quality, long_columns, paired_table, pivot_long, time_owners
 from ._readers import (
     BARE_UNIT,
     SMALL_INT,
@@ -278,7 +280,9 @@ def _plan(names, channels):
         if "pv" not in loop:
             raise FileError(f"no PV column: add 'pv' to channels (columns: {names})")
         prefix = _split(names[loop["pv"]]) or ("", "")
-        return time, [(prefix[0], loop)], []
+        loops = [(prefix[0], loop)]
+        _add_quality(names, loops, time)
+        return time, loops, []
     groups = {}
     for (prefix, key), pos in found.items():
         if key == "time":
@@ -305,7 +309,51 @@ def _plan(names, channels):
         for prefix, g in groups.items()
         if g and "pv" not in g
     ]
-    return time, sorted(loops, key=lambda item: min(item[1].values())), notes
+    loops = sorted(loops, key=lambda item: min(item[1].values()))
+    _add_quality(names, loops, time)
+    return time, loops, notes
+
+
+def _quality_word(name):
+    """``(channel column, quality word)`` of a quality column's name (``("FIC1.PV",
+    "Quality")``, ``("", "Status")`` for a column of the whole row), else ``(name, None)``."""
+    text = UNIT_SUFFIX.sub("", str(name).strip())
+    if text.lower() in QUALITY_NAMES:
+        return "", text
+    for sep in _TAG_SEPARATORS:
+        head, _, tail = text.rpartition(sep)
+        if head.strip() and tail.strip().lower() in QUALITY_NAMES:
+            return head.strip(), tail.strip()
+    return text, None
+
+
+def _add_quality(names, loops, time):
+    """Give each channel of ``loops`` its quality column, as ``"<key>_quality"``.
+
+    A channel's own (its column's name, a separator and a quality word: ``FIC1.PV
+    Quality``, ``PV_Status``, ``OP.Q``), else the file's one column named by a quality word
+    alone (``Quality``: the whole row's). Values whose quality is not good are read as NaN
+    (:func:`bad_quality` says what counts as good), as in long exports.
+    """
+    used = set(time) | {p for _, g in loops for p in g.values()}
+    own, shared = {}, []
+    for i, name in enumerate(names):
+        head, word = _quality_word(name)
+        if i in used or word is None:
+            continue
+        if head:
+            own.setdefault(head.lower(), i)
+        else:
+            shared.append(i)
+    for _, g in loops:
+        for key in ("pv", "op", "sp"):
+            if key not in g:
+                continue
+            q = own.get(str(names[g[key]]).strip().lower())
+            if q is None and len(shared) == 1:
+                q = shared[0]
+            if q is not None:
+                g[f"{key}_quality"] = q
 
 
 def _numeric(col, name, decimal, strict, thousands=None):
@@ -666,6 +714,19 @@ def _channel_values(frame, loops, names, decimal, strict, thousands=None, kind="
             )
             if note:
                 loop_notes[j].append(note)
+            quality = g.get(f"{key}_quality")
+            if quality is not None:
+                word = _quality_word(names[quality])[1]
+                bad, note = bad_quality(frame[quality], names[quality], word)
+                if bad is not None and bad.all():
+                    # not one good value: rather a column of something else (a mode, an
+                    # alarm state) than a tag bad for the whole export
+                    bad, note = None, (f"column {names[quality]!r} not used as quality: "
+                                       "none of its values reads good")  # fmt: skip
+                if bad is not None:
+                    values[bad, 4 * j + k] = np.nan
+                if note and note not in loop_notes[j]:
+                    loop_notes[j].append(note)
             if counts:
                 loop_notes[j].append(_status_note(counts, key.upper()))
                 texts += counts
