@@ -129,6 +129,15 @@ def test_choudhury_downward_slip_from_rest_in_both_directions():
     assert down.tolist() == [50.0, 50.0, 50.0, 47.5, 47.0]
 
 
+def test_choudhury_as_published_slips_back_after_a_small_reversal_kano_does_not():
+    # S = 2, J = 0.5: sliding up to 53.25 (lag 0.75), a reversal of 1 < S (stuck, x_ss = 54),
+    # then up again: x_ss is reset to 53, and 53.75 is more than J past it, so Choudhury's
+    # valve slips to 53.75 - 0.75 = 53.0, below where it stuck; Kano's keeps its stop at 54
+    u = [50, 51, 52, 53, 54, 53, 53.75]
+    assert ChoudhuryValve(2.0, 0.5).simulate(u).tolist()[-3:] == [53.25, 53.25, 53.0]
+    assert KanoValve(2.0, 0.5).simulate(u).tolist()[-3:] == [53.25, 53.25, 53.25]
+
+
 def test_choudhury_sticks_when_the_input_rests_in_either_direction():
     # S = 2, J = 1, lag 0.5: sliding down, the input rests one sample (velocity zero):
     # the valve sticks and needs more than J to move on (51.5 holds, 51 is a tie, 50.5 slips)

@@ -164,7 +164,11 @@ class ChoudhuryValve(_Valve):
     With ``J = S`` the sliding offset vanishes and, when each slip is followed
     by a reversal (the limit cycle of a loop with little delay), the model
     equals :class:`RelayValve` with ``d = S``. From rest with no previous
-    motion the first slip needs ``S``.
+    motion the first slip needs ``S``. As published, ``x_ss`` is reset at every
+    sign change of the input, even while the valve is stuck: after a reversal
+    smaller than ``S`` and a move back of more than ``J``, the valve slips to
+    ``u - sign(du) (S - J) / 2``, which may lie behind where it stuck, a move
+    against the input. Kano et al. (2004) mended this (:class:`KanoValve`).
 
     Examples
     --------
