@@ -189,7 +189,8 @@ def bad_quality(col, name, word=None):
     elif kind in "iu" and np.isin(col.to_numpy(), (0, 1)).all():
         flag = col.to_numpy() == 1
     elif kind not in "fiu":
-        text = col.astype(str).str.strip().str.lower()
+        # a blank cell is "" (pandas 3's astype(str) keeps it missing, pandas 2 writes "nan")
+        text = col.astype(str).str.strip().str.lower().fillna("")
         if text.isin(_TRUE + _FALSE + ("nan", "none", "")).all():
             flag = text.isin(_TRUE).to_numpy()
     if flag is not None:

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import math
+import numbers
 
 from .._validation import check_positive
 
@@ -92,6 +93,14 @@ def _apparent_delay(order):
     return k - y / slope
 
 
+def _check_gain(gain):
+    """A plant gain as a float: any real number but bool (numpy's too), finite, nonzero."""
+    if not (isinstance(gain, numbers.Real) and not isinstance(gain, bool)
+            and math.isfinite(gain)) or gain == 0:  # fmt: skip
+        raise ValueError(f"gain must be a finite nonzero number; got {gain!r}.")
+    return float(gain)
+
+
 def tune_pi(gain, time_constant, delay, rule="amigo"):
     """PI settings from a FOPTD model ``K e^{-Ls} / (tau s + 1)``.
 
@@ -122,8 +131,7 @@ def tune_pi(gain, time_constant, delay, rule="amigo"):
     >>> round(kc, 3), round(ti, 3)
     (1.8, 1.5)
     """
-    if not (isinstance(gain, (int, float)) and math.isfinite(gain)) or gain == 0:
-        raise ValueError(f"gain must be a finite nonzero number; got {gain!r}.")
+    gain = _check_gain(gain)
     tau = check_positive(time_constant, "time_constant")
     L = check_positive(delay, "delay")
     K = abs(float(gain))
@@ -166,8 +174,7 @@ def tune_pi_integrating(gain, delay, rule="amigo"):
     >>> tune_pi_integrating(0.5, 2.0, rule="simc")
     (0.5, 16.0)
     """
-    if not (isinstance(gain, (int, float)) and math.isfinite(gain)) or gain == 0:
-        raise ValueError(f"gain must be a finite nonzero number; got {gain!r}.")
+    gain = _check_gain(gain)
     L = check_positive(delay, "delay")
     Kv = abs(float(gain))
     if rule == "amigo":
