@@ -2,6 +2,8 @@
 quality flags, the grid step of recorded tags, held values and the pivoted table of small
 hand-written exports, cell by cell."""
 
+import warnings
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -235,10 +237,16 @@ def _records(steps):
         ([10.0, 15.5] * 5, 12.75),
         # records 0.2 ms apart: no whole millisecond between them, no divisor
         ([0.0002] * 4, 0.0002),
+        # one 3.5 s step among 10.5 s ones: the 5th percentile is a step that occurs (3.5 s),
+        # not one interpolated between the two (near none: an empty median once); 0.5 s
+        # divides both but is under a fifth of 3.5 s, and 10.5 s is 3 x 3.5 s
+        ([3.5] + [10.5] * 10, 3.5),
     ],
 )
 def test_scan_step_known_answers(steps, step):
-    assert _scan_step(_records(steps)) == pytest.approx(step, rel=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no mean of an empty slice
+        assert _scan_step(_records(steps)) == pytest.approx(step, rel=1e-12)
 
 
 def test_scan_step_of_tags_without_two_distinct_times_is_none():

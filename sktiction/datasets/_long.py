@@ -226,7 +226,8 @@ def _scan_step(records):
     steps = steps[steps > 0]
     if steps.size == 0:
         return None
-    short = float(np.percentile(steps, 5))
+    # a step that occurs (not one interpolated between two clusters of steps, near none)
+    short = float(np.percentile(steps, 5, method="lower"))
     short = float(np.median(steps[np.abs(steps / short - 1) < 0.25]))
     ms = np.round(steps * 1000).astype(np.int64)
     common = np.gcd.reduce(ms[ms > 0]) / 1000 if (ms > 0).any() else 0.0
