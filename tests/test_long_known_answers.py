@@ -325,9 +325,8 @@ def test_own_times_held_on_the_scan_grid_cell_by_cell():
         "1 repeated tag and time: kept the last",
         "long layout (Tag, Time, Value): 2 tags pivoted to columns; tags recorded at their "
         "own times: each held at its last record on a 10 s grid (the scan period the records "
-        "fall on; 0% of the grid's rows without a record of any tag); F1.OP has no record for "
-        "30 s of 200 s (held)",
-    ]
+        "fall on; 0% of the grid's rows without a record of any tag)",
+    ]  # OP's 30 s between records are its own pace (3 scans), not a silence
 
 
 def test_held_grid_share_of_rows_without_a_record_and_ts():
@@ -660,9 +659,9 @@ def test_notes_of_a_stray_record_and_of_a_silence():
         "2 tags pivoted to columns; tags recorded at their own times: each held at its last "
         "record on a 1 s grid (the scan period the records fall on; 0% of the grid's rows "
         "without a record of any tag); records outside the time all of a loop's tags cover "
-        "set only the values held (19 s of 1e+09 s); B has no record for 2 s of 19 s (held)"
-    )
-    # a silence of 3 s in a 9 s span (more than a tenth of it) is said, however short
+        "set only the values held (19 s of 1e+09 s)"
+    )  # B's 2 s between records (every other scan) are more than a tenth of 19 s, no silence
+    # a silence of 3 s in a 9 s span (more than a tenth of it and more than three scans)
     t = np.arange(0.0, 9.0 + 1e-9, 0.125)
     op = t[(t <= 3) | (t >= 6)]
     df = pd.DataFrame({"Tag": ["F1.PV"] * t.size + ["F1.OP"] * op.size, "Time": np.r_[t, op],

@@ -418,10 +418,11 @@ def _held_grid(records, ts, loop_of):
         inside = (grid >= a - 1e-9) & (grid <= b + 1e-9)
         wide[inside, j] = _held(tk, vk, grid[inside])
         # a long silence: unchanged (compression), an outage or a cut-off export (a row
-        # limit); the records cannot tell, so say it
+        # limit); the records cannot tell, so say it (a tenth of the span and more than a
+        # few scans: a short export recorded at every scan has no silence)
         within = tk[(tk >= a) & (tk <= b)]
         gaps = np.diff(np.r_[a, within, b])
-        if gaps.size and gaps.max() > 0.1 * (b - a) > 0:
+        if gaps.size and gaps.max() > max(0.1 * (b - a), 3 * step) and b > a:
             notes.append(f"{k} has no record for {gaps.max():g} s of {b - a:g} s (held)")
     why = "ts" if ts is not None else "the scan period the records fall on"
     t = np.concatenate([tk for tk, _ in records.values()])
