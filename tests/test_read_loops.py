@@ -113,6 +113,26 @@ def test_wide_quality_columns(tmp_path):
     assert "column 'Status' not used as quality" in data.meta.loc[0, "reason"]
 
 
+@pytest.mark.parametrize("day, noted", [("2026-10-25", True), ("2026-07-12", False)])
+def test_an_hour_twice_in_a_file_sorted_by_local_time(tmp_path, day, noted):
+    """Sorted by naive local time across the end of daylight saving time, every stamp of
+    01:00-02:00 comes twice: its first pass is kept and the second is a gap of an hour,
+    with a note; the same repeats on a July night are only duplicates."""
+    t = pd.date_range(f"{day} 00:00", f"{day} 02:59", freq="1min")
+    t = t.append(pd.date_range(f"{day} 01:00", f"{day} 01:59", freq="1min")).sort_values()
+    x = np.arange(len(t), dtype=float)
+    f = tmp_path / "dst.csv"
+    pd.DataFrame({"time": t, "PV": x, "OP": 50 + x}).to_csv(f, index=False)
+    data = read_loops(f)
+    reason = data.meta.loc[0, "reason"]
+    assert ("every stamp of " + day + " 01:00-02:00 twice" in reason) is noted
+    assert "60 duplicated timestamps: kept the first row of each" in reason
+    gap = np.isnan(data.X[0, :, 0])
+    assert data.X.shape[1] == (240 if noted else 180) and gap.sum() == (60 if noted else 0)
+    if noted:
+        assert gap[120:180].all()
+
+
 def test_a_day_missing_between_two_shifts_keeps_the_longer_one(tmp_path):
     """Hours of 10 s data with a day between them: the longer stretch is read, from its own
     start, and the note says so (a grid over the missing day would be 96 % empty)."""

@@ -211,6 +211,35 @@ def _clock_back(stamps, notes):
     return stamps
 
 
+def _hour_twice(stamps, notes):
+    """A file sorted by naive local time across the end of daylight saving time has the
+    repeated hour's two passes interleaved: every stamp of one whole clock hour in the
+    small hours of a March, April, October or November night twice, in time order, and no
+    other stamp repeated. The passes cannot be told apart; the rows from the next hour on
+    are read an hour later, so the hour's second pass is a gap (the first row of each
+    repeated stamp is kept, as for any repeat) instead of an hour of process missing
+    without a trace."""
+    ok, ns, dt = _steps(stamps)
+    same = np.flatnonzero(dt == 0)
+    if same.size < 3 or (dt < 0).any():
+        return stamps
+    twice = ns[same]
+    hour = pd.Timestamp(int(twice[0])).floor("h")
+    later = hour + pd.Timedelta(hours=1)
+    inside = (ns >= hour.value) & (ns < later.value)
+    after = ns >= later.value
+    if not (np.all((twice >= hour.value) & (twice < later.value)) and after.any()
+            and same.size >= 0.9 * np.unique(ns[inside]).size
+            and hour.month in (3, 4, 10, 11) and hour.hour < 4):  # fmt: skip
+        return stamps
+    stamps = _shift_from(stamps, np.flatnonzero(ok)[np.argmax(after)], hours=1)
+    notes.append(f"every stamp of {hour:%Y-%m-%d %H:%M}-{later:%H:%M} twice (daylight saving "
+                 "time ending, local time without offset, rows sorted by time): the hour's "
+                 "two passes cannot be told apart, the first kept; later rows read an hour "
+                 "later")  # fmt: skip
+    return stamps
+
+
 def _clock_forward(stamps, notes):
     """Naive local time skips an hour when daylight saving time starts: one step forward
     of an hour plus a sample over a whole clock hour (02:00-03:00), from the small hours
@@ -332,7 +361,7 @@ def _text_times(raw, time_format):
         stamps = stamps.dt.tz_convert("UTC").dt.tz_localize(None)
         notes.append("time zone offsets converted to UTC")
     elif not time_only:
-        stamps = _clock_forward(_clock_back(stamps, notes), notes)
+        stamps = _clock_forward(_hour_twice(_clock_back(stamps, notes), notes), notes)
     if time_only:
         # Time of day only: a step back of more than 12 h is midnight passing.
         ns = stamps.to_numpy(dtype="datetime64[ns]").astype(np.int64)
