@@ -107,6 +107,14 @@ def test_wide_quality_columns(tmp_path):
     np.testing.assert_array_equal(np.isnan(data.X[0, :, :2]).any(1), [0, 1, 0, 0])
     assert data.meta.loc[0, "reason"].count("quality other than good") == 1
 
+    # a bare Q beside a unit-suffixed channel is a flow, not the row's quality; PV's own
+    # quality is found past the unit
+    flow = [200, 200, 150, 200]  # read as OPC codes, 150 would blank OP's row 2
+    body = "".join(f"{t},{40 + t},{q},{50 + t},{f}\n" for (t, q, *_), f in zip(rows, flow))
+    data = read_loops(write(tmp_path / "q.csv", "time,PV [m3/h],PV Quality,OP,Q\n" + body))
+    np.testing.assert_array_equal(np.isnan(data.X[0, :, :2]).any(1), [0, 1, 0, 0])
+    assert "(column 'PV Quality')" in data.meta.loc[0, "reason"]
+
     body = "".join(f"{t},{40 + t},{50 + t},{m}\n" for t, m in enumerate("AAMA"))
     data = read_loops(write(tmp_path / "mode.csv", "time,PV,OP,Status\n" + body))
     assert not np.isnan(data.X[0, :, :2]).any()

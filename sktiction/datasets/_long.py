@@ -50,9 +50,9 @@ _VALUE = ("value", "ip_trend_value", "_value", "val", "values", "reading", "avg"
           "wert", "messwert", "istwert", "valeur", "valor", "waarde", "meetwaarde",
           "mittelwert", "moyenne", "promedio", "gemiddelde")  # fmt: skip
 QUALITY_NAMES = {"quality", "status", "confidence", "ip_trend_qstatus", "ip_trend_qlevel",
-            "q", "questionable", "validity",
-            "qualität", "qualitaet", "qualitat", "qualité", "qualite", "calidad", "kwaliteit",
-            "statut", "estado"}  # fmt: skip
+                 "q", "questionable", "validity",
+                 "qualität", "qualitaet", "qualitat", "qualité", "qualite", "calidad",
+                 "kwaliteit", "statut", "estado"}  # fmt: skip
 _TIME_EXTRA = {"ip_trend_time", "_time", "time_stamp", "sampletime", "sample_time", "ts",
                "datetime_utc", "timestamp_utc", "time_utc", "zeitstempel", "horodatage",
                "timestring",

@@ -318,7 +318,7 @@ def _quality_word(name):
     """``(channel column, quality word)`` of a quality column's name (``("FIC1.PV",
     "Quality")``, ``("", "Status")`` for a column of the whole row), else ``(name, None)``."""
     text = UNIT_SUFFIX.sub("", str(name).strip())
-    if text.lower() in QUALITY_NAMES:
+    if text.lower() in QUALITY_NAMES - {"q"}:  # a bare "Q" is as often a flow
         return "", text
     for sep in _TAG_SEPARATORS:
         head, _, tail = text.rpartition(sep)
@@ -349,7 +349,7 @@ def _add_quality(names, loops, time):
         for key in ("pv", "op", "sp"):
             if key not in g:
                 continue
-            q = own.get(str(names[g[key]]).strip().lower())
+            q = own.get(UNIT_SUFFIX.sub("", str(names[g[key]]).strip()).lower())
             if q is None and len(shared) == 1:
                 q = shared[0]
             if q is not None:

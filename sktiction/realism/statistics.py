@@ -439,6 +439,7 @@ def _one_loop(x, ts):
     row["nan_fraction"] = float(np.isnan(chans).mean())
     x = _recorded_rows(x)
     n, sp = len(x), x[:, SP]
+    has_sp = bool(np.isfinite(sp).any())  # within the recorded rows (the row says: at all)
     _, pv_first, op_first = _first_steps(x)
     if pv_first is None:
         return row
