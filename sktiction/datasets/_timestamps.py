@@ -190,6 +190,13 @@ def _shift_from(stamps, i, hours):
     return stamps.where(~later, stamps + pd.Timedelta(hours=hours))
 
 
+def _fall_back_hour(at):
+    """Whether a time ``at`` can be in the hour that naive local time repeats when daylight
+    saving time ends: the small hours of a March or April (south) or an October or
+    November (north) night."""
+    return at.month in (3, 4, 10, 11) and at.hour < 4
+
+
 def _clock_back(stamps, notes):
     """Naive local time repeats an hour when daylight saving time ends: one step back of
     an hour less a sample, in the small hours of a March, April, October or November
@@ -203,7 +210,7 @@ def _clock_back(stamps, notes):
     step = float(np.median(dt[dt > 0])) if (dt > 0).any() else 0.0
     at = pd.Timestamp(int(ns[back[0] + 1]))
     if not (0 < step < 900 and abs(dt[back[0]] + 3600 - step) <= 0.5 * step
-            and at.month in (3, 4, 10, 11) and at.hour < 4):  # fmt: skip
+            and _fall_back_hour(at)):  # fmt: skip
         return stamps
     stamps = _shift_from(stamps, np.flatnonzero(ok)[back[0] + 1], hours=1)
     notes.append(f"clock set back an hour at {at} (daylight saving time ending, local time "
@@ -230,7 +237,7 @@ def _hour_twice(stamps, notes):
     after = ns >= later.value
     if not (np.all((twice >= hour.value) & (twice < later.value)) and after.any()
             and same.size >= 0.9 * np.unique(ns[inside]).size
-            and hour.month in (3, 4, 10, 11) and hour.hour < 4):  # fmt: skip
+            and _fall_back_hour(hour)):  # fmt: skip
         return stamps
     stamps = _shift_from(stamps, np.flatnonzero(ok)[np.argmax(after)], hours=1)
     notes.append(f"every stamp of {hour:%Y-%m-%d %H:%M}-{later:%H:%M} twice (daylight saving "
