@@ -152,6 +152,9 @@ def test_paired_table_reads_each_tag_with_the_time_column_to_its_left():
         # text: Good, OK, Valid, Normal (any case, spaces, a suffix) are good; blank is not bad
         (["Good", " GOOD ", "ok", "Valid", "Normal", "Bad", "Uncertain", None,
           "Good, Substituted", "not good"], object, "Status", [0, 0, 0, 0, 0, 1, 1, 0, 0, 1]),
+        # a missing quality written out as text is blank, as in a flag column
+        (["Good", "nan", "None", " ", "Bad"], object, "Quality", [0, 0, 0, 0, 1]),
+        (["True", "nan", "None", " ", "False"], object, "Questionable", [1, 0, 0, 0, 0]),
     ],
 )  # fmt: skip
 def test_bad_quality_known_answers(values, dtype, name, bad):

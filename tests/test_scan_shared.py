@@ -89,9 +89,13 @@ def test_scan_asks_the_shared_path(model, loops, monkeypatch):
     n = int(loop_lengths(loops[:1])[0])
     loops[0, : n - 1, 1] = loops[0, 1:n, 1]  # OP one row early in the first loop
     loops[0, n - 1] = np.nan
-    aligned, shifts = align_op(loops, loop_lengths(loops))  # as the scan reads them
+    aligned, shifts = align_op(loops, loop_lengths(loops))
     assert shifts[0] == -1  # the scan must judge it moved back
-    expected = model.diagnose_analysed(aligned, analyse_loops(aligned))
+    # as the scan reads them: repaired (a spike replaced in some loops), then in step; a
+    # loop read unrepaired agreed only while no tree split fell between the two readings
+    judged_loops = as_judged(loops)
+    np.testing.assert_array_equal(judged_loops[0], as_judged(aligned)[0])
+    expected = model.diagnose_analysed(judged_loops, analyse_loops(judged_loops))
 
     def no_diagnose(self, X):
         raise AssertionError("the scan analysed normalised loops again")
@@ -111,7 +115,9 @@ def test_scan_asks_the_shared_path(model, loops, monkeypatch):
 def test_long_records_are_read_in_the_same_windows_as_diagnose(model, loops, monkeypatch):
     """A record longer than ``long_record`` is also read in windows analysed afresh (the
     scan's analyses are of the whole record): the same windows in a scan as in
-    ``diagnose``, so the same probabilities (to the last bits of a mean)."""
+    ``diagnose``, so the same probabilities (to rounding: a whole record's features agree
+    with the normalised copy's to the last bits, and a model trained in 2026-11 put a
+    split of a late, small tree between them for one loop, 2e-12 off)."""
     monkeypatch.setattr(scan_module, "_applicability_gate", lambda: None)
     clf = copy.deepcopy(model).set_params(window=400, long_record=1200)
     long = loop_lengths(as_judged(loops)) > 1200
@@ -122,7 +128,7 @@ def test_long_records_are_read_in_the_same_windows_as_diagnose(model, loops, mon
         report["stiction_probability"].to_numpy()[long],
         expected["probability"].to_numpy()[long],
         rtol=0,
-        atol=1e-12,
+        atol=1e-9,
     )
     judged = expected["in_domain"].to_numpy()
     assert judged[long].sum() >= 25

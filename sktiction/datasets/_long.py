@@ -204,7 +204,9 @@ def bad_quality(col, name, word=None):
             bad = np.isfinite(q) & (q < _OPC_GOOD)
             return bad, _quality_note(bad, name)
         return None, f"quality column {name!r} not used (numeric codes of unknown meaning)"
-    bad = ~(text.str.startswith(_GOOD).to_numpy() | col.isna().to_numpy())
+    # a missing quality written out as text reads as blank, as in a flag column
+    blank = text.isin(("nan", "none", "")).to_numpy() | col.isna().to_numpy()
+    bad = ~(text.str.startswith(_GOOD).to_numpy() | blank)
     return bad, _quality_note(bad, name)
 
 
