@@ -186,6 +186,20 @@ TARGETED = {
     "sktiction/simulation/controllers.py": [
         "tests/test_simulation.py", "tests/test_valves.py", "tests/test_controllers.py",
     ],
+    # not tests/test_common.py (a minute per mutant) nor the scans (the pretrained model)
+    "sktiction/_validation.py": [
+        "tests/test_gaps.py", "tests/test_features_loops.py",
+        "tests/test_applicability.py::test_bad_input_is_refused_with_the_reason",
+        "tests/test_scan_stream.py::test_gap_free_files_skip_repair_gaps_with_its_answer",
+        "tests/test_cleaning.py::test_a_setpoint_with_a_hole_is_a_gap_not_a_missing_setpoint",
+        "tests/test_validation_known_answers.py",
+    ],
+    "sktiction/simulation/effects.py": [
+        "tests/test_simulation.py", "tests/test_effects_known_answers.py",
+    ],
+    "sktiction/simulation/disturbances.py": [
+        "tests/test_simulation.py", "tests/test_disturbances_known_answers.py",
+    ],
 }  # fmt: skip
 
 # mutmut's exit codes (mutmut/stats.py)

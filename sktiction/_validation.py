@@ -41,10 +41,22 @@ def check_random_state_seed(random_state):
     )
 
 
+def _is_numeric(dtype):
+    """A numpy number dtype, or a pandas extension dtype of numbers (nullable ``Int64``,
+    ``Float64``); not bool, text (pandas 3 stores text as a ``str`` extension dtype, which
+    numpy cannot interpret) or categories."""
+    try:
+        return np.issubdtype(dtype, np.number)
+    except TypeError:
+        from pandas.api.types import is_bool_dtype, is_numeric_dtype  # a pandas dtype
+
+        return is_numeric_dtype(dtype) and not is_bool_dtype(dtype)
+
+
 def _check_numeric_columns(X, name):
     """Name the non-numeric columns of a DataFrame (sklearn's message does not)."""
     if hasattr(X, "dtypes") and hasattr(X, "columns"):
-        bad = [str(c) for c, dt in zip(X.columns, X.dtypes) if not np.issubdtype(dt, np.number)]
+        bad = [str(c) for c, dt in zip(X.columns, X.dtypes) if not _is_numeric(dt)]
         if bad:
             raise TypeError(f"{name} has non-numeric columns: {', '.join(bad)}.")
 
