@@ -51,6 +51,8 @@ def _draw(name, rng):
         return historian.HoldLastValue(rng.uniform(0.1, 0.5), rng.uniform(2.0, 10.0))
     if name == "deadband_compression":
         return historian.DeadbandCompression(loguniform(0.01, 0.1))
+    if name == "swinging_door":
+        return historian.SwingingDoorCompression(loguniform(0.01, 0.05))
     if name == "interval_averaging":
         return historian.IntervalAveraging(int(rng.integers(2, 11)))
     if name == "quantisation":
@@ -139,11 +141,15 @@ def test_hidden_effect_ranked_first(pool):
     assert np.mean(first) >= 0.95
 
 
-# Compression or a grid after an interval average re-freezes or re-noises the fast band where
-# the average leaves its mark, so that pair leaves no evidence of averaging to find.
+# Compression or a grid after an interval average re-freezes, re-noises or redraws the fast
+# band where the average leaves its mark, so that pair leaves no evidence of averaging to
+# find. A swinging door after a deadband stores the corners of the held steps: the export is
+# the steps again, read as deadband compression.
 _UNDETECTABLE_PAIRS = {
     ("interval_averaging", "quantisation"),
     ("interval_averaging", "deadband_compression"),
+    ("interval_averaging", "swinging_door"),
+    ("deadband_compression", "swinging_door"),
 }
 
 
@@ -193,6 +199,8 @@ _RECOVERY = [
     (historian.HoldLastValue(0.3, 5.0), {"fraction": 0.3, "mean_run": 5.0},
      {"fraction": 0.05, "mean_run": 0.25}),
     (historian.DeadbandCompression(0.05), {"band": 0.05}, {"band": 0.2}),
+    # the door's deviation from its stored points' scatter, which curvature widens
+    (historian.SwingingDoorCompression(0.02), {"deviation": 0.02}, {"deviation": 0.5}),
     (historian.IntervalAveraging(4), {"window": 4}, {"window": 0.0}),
     (historian.SpanQuantization(0.04), {"step": 0.04}, {"step": 0.15}),
     (historian.Spikes(0.01, 1.0), {"rate": 0.01, "amplitude": 1.0},
@@ -202,6 +210,7 @@ _RECOVERY = [
 _NAMES = {
     historian.HoldLastValue: "hold_last_value",
     historian.DeadbandCompression: "deadband_compression",
+    historian.SwingingDoorCompression: "swinging_door",
     historian.IntervalAveraging: "interval_averaging",
     historian.SpanQuantization: "quantisation",
     historian.Spikes: "spikes",
@@ -243,6 +252,21 @@ def test_calibrated_world_closes_the_gap(pool):
     assert before["significant"].sum() >= 2
     assert after["significant"].sum() < before["significant"].sum()
     assert not after.set_index("effect").loc["hold_last_value", "significant"]
+
+
+def test_an_interpolated_export_is_named_and_reproduced(pool):
+    """Lines drawn between a swinging door's stored points: ``compare`` names the door (it
+    had named the noise level, which reads as 0 on lines), and the calibrated recording
+    draws such lines on simulated loops, so the door's row is no longer significant."""
+    X, _ = pool
+    sim = X[:40]
+    meas = apply_effects(X[80:120], [historian.SwingingDoorCompression(0.02)], random_state=1)
+    before = compare(sim, meas, domain=False)
+    assert before.loc[0, "effect"] == "swinging_door" and before.loc[0, "significant"]
+    assert np.isnan(loop_statistics(meas)["noise_level"]).mean() >= 0.5
+    realism = calibrate(meas, refine=False)
+    after = compare(apply_recording(sim, realism, random_state=2), meas, domain=False)
+    assert not after.set_index("effect").loc["swinging_door", "significant"]
 
 
 def test_calibrate_per_loop_type_and_errors(pool):

@@ -41,6 +41,7 @@ from ..simulation.historian import (
     HoldLastValue,
     IntervalAveraging,
     SpanQuantization,
+    SwingingDoorCompression,
 )
 from ..simulation.loop import _loop_arrays, _record, _simulate
 
@@ -371,6 +372,8 @@ _TYPE_ORDERS = {"level": ("integrating",), "flow": (1, 2), "pressure": (1, 2)}
 # it, rules PV's second differences (noise_colour)
 _OWN_MAX_CUTOFF = 0.05
 RECORDING_EFFECTS = ("quantisation", "hold", "compression", "averaging")
+# recording effects make_loops can draw when asked: the default ones and an interpolated export
+_RECORDING_NAMES = RECORDING_EFFECTS + ("swinging_door",)
 
 _SHARED_DEFAULTS = {
     "stiction_fraction": 0.5,
@@ -464,6 +467,8 @@ def _recording_effect(name, rng):
         return [HoldLastValue(rng.uniform(0.1, 0.55), mean_run=_loguniform(rng, 1.5, 20.0))]
     if name == "compression":
         return [DeadbandCompression(_loguniform(rng, 0.01, 0.15))]
+    if name == "swinging_door":
+        return [SwingingDoorCompression(_loguniform(rng, 0.005, 0.05))]
     return [IntervalAveraging(int(rng.integers(2, 11)))]
 
 
@@ -1117,7 +1122,8 @@ def make_loops(
         relative to each tag's span (:mod:`sktiction.simulation.historian`):
         PV and OP on a grid of 0.5-10 %, rows frozen together on 10-55 % of the
         samples, per-tag exception compression with a band of 1-15 %, 2-10
-        sample interval averages.
+        sample interval averages; ``"swinging_door"`` (not drawn by default) exports
+        PV and OP interpolated from a swinging door of 0.5-5 %.
     recording_fraction : float, default 0.5
         Default world only: share of loops with historian recording effects.
     pv_own_share : tuple of float, default (0.0, 0.0)
@@ -1321,9 +1327,9 @@ def _check_default_options(opt, orders, n_samples, realism):
         opt["setpoint_regimes"], SETPOINT_REGIMES, "setpoint_regimes"
     )
     rec = tuple(opt["recording"])
-    bad = [r for r in rec if r not in RECORDING_EFFECTS]
+    bad = [r for r in rec if r not in _RECORDING_NAMES]
     if bad:
-        raise ValueError(f"recording must be a subset of {RECORDING_EFFECTS}; got {rec!r}.")
+        raise ValueError(f"recording must be a subset of {_RECORDING_NAMES}; got {rec!r}.")
     opt["recording"] = rec
     for name in ("recording_fraction", "short_fraction", "oscillating_fraction"):
         opt[name] = check_positive(opt[name], name, strict=False, upper=1.0)

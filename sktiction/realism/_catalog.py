@@ -13,7 +13,9 @@ column (the skeptic's list), the simulator effect that produces it and how
   :func:`sktiction.datasets.make_loops` (``None`` when the catalog has none to offer).
 
 The thresholds of ``present`` come from what the statistics mean, not from any data set:
-a hold or a compression must freeze at least 2 % of the samples, quantisation must make 5 %
+a hold or a compression must freeze at least 2 % of the samples (lines drawn between
+stored points: PV and OP together hold a quarter of the rows on them, which only
+an export gives), quantisation must make 5 %
 of the changes revisit a level (continuous values never do), an averaging dip must reach -0.3 of
 the -0.5 a trailing mean gives and stand between two positive lobes as a trailing mean's does
 (in PV and OP at the same lag, or in PV alone when no rows are held, since held rows leave
@@ -35,6 +37,7 @@ __all__ = ["RealismEffect", "EFFECTS", "effect_names"]
 
 _HOLD_MIN = 0.02
 _FREEZE_MIN = 0.02
+_LINES_MIN = 0.25
 _REUSE_MIN = 0.05
 _AVERAGING_DIP = -0.3
 _AVERAGING_CONTRAST = -0.5
@@ -293,6 +296,21 @@ _ENTRIES = [
         ),
     ),
     RealismEffect(
+        "swinging_door",
+        "line_share",
+        "recording",
+        "SwingingDoorCompression(deviation): lines drawn between the points a swinging door "
+        "stored (an interpolated export), deviation x span",
+        "held rows, deadband compression and quantisation repeat values, they do not draw "
+        "lines; interval averaging of held or quantised values draws short ramps; a clean "
+        "noise-free signal's lines only turn at its corners (not counted).",
+        present=lambda s: _col(s, "line_share") > _LINES_MIN,
+        params=lambda s: _frame(deviation=_col(s, "line_deviation")),
+        make=lambda deviation: historian.SwingingDoorCompression(
+            float(min(max(deviation, 1e-4), 1.0))
+        ),
+    ),
+    RealismEffect(
         "hold_last_value",
         "hold_fraction",
         "recording",
@@ -415,7 +433,8 @@ _ENTRIES = [
 
 EFFECTS = {e.name: e for e in _ENTRIES}
 """Catalog of realism effects, keyed by name. Recording effects come in the order they act:
-sensor drift, interval averaging, grid, per-tag compression, held rows, then spikes (glitches
+sensor drift, interval averaging, grid, per-tag compression (deadband, swinging door),
+held rows, then spikes (glitches
 of the stored values, which averaging would otherwise smooth away)."""
 
 

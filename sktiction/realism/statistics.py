@@ -16,7 +16,7 @@ import pandas as pd
 from scipy.fft import irfft, next_fast_len, rfft
 
 from .._validation import OP, PV, SP, check_loops
-from ..cycles._signal import fast_median, fast_percentile
+from ..cycles._signal import _stored_noise, drawn_lines, fast_median, fast_percentile
 
 __all__ = ["loop_statistics", "STATISTIC_COLUMNS"]
 
@@ -32,6 +32,11 @@ _MIN_PAIRS = 30
 _SPIKE_NOISE_SD = 8.0
 # ... and by more than this share of the channel's 5-95 % range.
 _SPIKE_SPAN = 0.2
+# The scatter of a swinging door's stored points about their neighbours' line, in
+# deviations: about 2 where noise sets the points (a deviation of 1.5 noise sd), about 5
+# where a smooth cycle's curvature does (classic-world loops at 0.5-10 % of their span,
+# 10-90 % 2-10); between the two, so a fitted deviation is within a factor of 2.5.
+_SCATTER_PER_DEVIATION = 4.0
 # SP changes on more than this share of samples: a remote (cascade) setpoint, not steps.
 _CASCADE_SHARE = 0.2
 
@@ -60,6 +65,8 @@ STATISTIC_COLUMNS = (
     "hold_fraction",
     "hold_run_length",
     "independent_freeze",
+    "line_share",
+    "line_deviation",
     "pv_level_reuse",
     "op_level_reuse",
     "pv_step",
@@ -425,6 +432,17 @@ def _oscillation(err):
     return peak, period, reg, decor
 
 
+def _drawn(x, span):
+    """Share of the rows of ``x`` that lie on lines drawn between stored points (0 when
+    it is no interpolated export, :func:`~sktiction.cycles._signal.drawn_lines`) and the
+    swinging door's deviation as a share of ``span`` (NaN when no export)."""
+    rows = drawn_lines(x)
+    if rows is None or not span > 0:
+        return 0.0, np.nan
+    deviation = _stored_noise(x, rows) / _SCATTER_PER_DEVIATION / span
+    return 1.0 - rows.size / x.size, deviation
+
+
 def _one_loop(x, ts):
     """Statistics of one loop ``x`` (n_samples, 3) with the padding already cut."""
     row = dict.fromkeys(STATISTIC_COLUMNS, np.nan)
@@ -452,6 +470,9 @@ def _one_loop(x, ts):
     err_span = _span(err)
     if pv_noise is None:
         pv_noise = _noise_sd(pv, same_pv)
+    lines = [_drawn(pv, pv_span)]
+    if lines[0][0] > 0:  # an interpolated export holds no noise between stored points
+        pv_noise = np.nan
     row.update(pv_span=pv_span, error_span=err_span, pv_noise=pv_noise)
     row["noise_level"] = pv_noise / err_span if err_span > 0 else np.nan
 
@@ -476,6 +497,9 @@ def _one_loop(x, ts):
         spikes.append(op_first.spike_sizes)
         if op_noise is None:
             op_noise = _noise_sd(op, same_op)
+        lines.append(_drawn(op, op_span))
+        if lines[-1][0] > 0:
+            op_noise = np.nan
         row.update(op_span=op_span, op_noise=op_noise, op_repeat_fraction=op_rep)
         row["op_level_reuse"] = op_reuse
         row["op_noise_level"] = op_noise / op_span if op_span > 0 else np.nan
@@ -508,6 +532,10 @@ def _one_loop(x, ts):
             row["pv_op_lag"] = float(k - max_lag)
         in_pct = op.min() >= -1 and op.max() <= 101 and op.mean() > 2
         row["op_saturation"] = float(np.mean((op <= 0.5) | (op >= 99.5))) if in_pct else np.nan
+    shares, deviations = np.array(lines).T
+    row["line_share"] = float(shares.mean())
+    if np.isfinite(deviations).any():
+        row["line_deviation"] = float(np.nanmedian(deviations))
     spikes = np.concatenate(spikes)
     row["spike_rate"] = len(spikes) / n
     row["spike_size"] = float(np.median(spikes)) if len(spikes) else np.nan
@@ -576,6 +604,13 @@ def loop_statistics(X, ts=None):
           repeats not matched by the other tag and ended by a jump off the grid of the
           tag's smallest change: tags frozen on their own at values off any grid (deadband
           or swinging-door compression); zero for held rows and for quantised values.
+        - ``line_share``: mean over PV and OP of the share of rows on straight lines drawn
+          between stored points (an interpolated export of a swinging-door historian,
+          :func:`~sktiction.cycles._signal.drawn_lines`: at least half the second
+          differences vanish; 0 otherwise, held or quantised values included).
+          ``line_deviation``: the door's deviation read from the stored points' scatter,
+          share of the span (NaN without such an export). A channel so exported has no
+          noise left to read: its ``pv_noise`` or ``op_noise`` (and ``noise_level``) is NaN.
         - ``pv_level_reuse``, ``op_level_reuse``: ``1 - distinct values / (changes + 1)``;
           quantised signals revisit their levels (near 1), continuous ones do not (0).
         - ``pv_step``: smallest non-zero PV change, share of the span (the grid step when

@@ -24,6 +24,7 @@ from .historian import (
     ShortRecord,
     SpanQuantization,
     Spikes,
+    SwingingDoorCompression,
 )
 from .loop import simulate_loop, simulate_loops
 from .plants import FOPTD, SOPTD, IntegratingPlant, NthOrderLag
@@ -65,6 +66,7 @@ __all__ = [
     "simulate_loops",
     "HoldLastValue",
     "DeadbandCompression",
+    "SwingingDoorCompression",
     "IntervalAveraging",
     "SpanQuantization",
     "Spikes",

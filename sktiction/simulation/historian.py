@@ -6,18 +6,20 @@ given as a share of each channel's 5-95 % range in the record (its *span*), so o
 means the same on loops of any scale. Each effect has a statistic of
 :func:`sktiction.realism.loop_statistics` that detects it (see :data:`sktiction.realism.EFFECTS`):
 
-=====================  ==================================  =================================
-effect                 what the historian or sensor does   statistic
-=====================  ==================================  =================================
-HoldLastValue          whole rows frozen, then all jump     ``hold_fraction``
-DeadbandCompression    each tag stored when it moved more   ``independent_freeze``
-                       than a band (exception deviation)
-IntervalAveraging      trailing mean over an interval       ``diff_acf_min``
-SpanQuantization       values on a grid                     ``pv_level_reuse``
-Spikes                 isolated wild samples                ``spike_rate``
-SensorDrift            slow ramp added to the measurement   ``pv_drift``
-ShortRecord            record cut short (NaN padding)       ``n_samples``
-=====================  ==================================  =================================
+=======================  ===================================  ======================
+effect                   what the historian or sensor does    statistic
+=======================  ===================================  ======================
+HoldLastValue            whole rows frozen, then all jump     ``hold_fraction``
+DeadbandCompression      each tag stored when it moved more   ``independent_freeze``
+                         than a band (exception deviation)
+SwingingDoorCompression  lines drawn between the points a     ``line_share``
+                         swinging door stored (interpolated)
+IntervalAveraging        trailing mean over an interval       ``diff_acf_min``
+SpanQuantization         values on a grid                     ``pv_level_reuse``
+Spikes                   isolated wild samples                ``spike_rate``
+SensorDrift              slow ramp added to the measurement   ``pv_drift``
+ShortRecord              record cut short (NaN padding)       ``n_samples``
+=======================  ===================================  ======================
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from .effects import Effect
 __all__ = [
     "HoldLastValue",
     "DeadbandCompression",
+    "SwingingDoorCompression",
     "IntervalAveraging",
     "SpanQuantization",
     "Spikes",
@@ -250,6 +253,76 @@ class DeadbandCompression(_Recording):
         for c in self._present(signals):
             x = np.asarray(signals[c], dtype=float)
             out[c] = _deadband(x, self.band * _unit(x, self.unit))
+        return out
+
+
+@njit(cache=True)
+def _swinging_door(x, dev):
+    """``x`` (finite) as an interpolated export of the points a swinging door of deviation
+    ``dev`` stores: each stored point ends the last line from the point before that kept
+    every sample within ``dev``; straight lines are drawn between them."""
+    n = len(x)
+    out = x.copy()
+    if n < 3:
+        return out
+    keep = np.zeros(n, dtype=np.bool_)
+    keep[0] = keep[n - 1] = True
+    a, up, lo = 0, -np.inf, np.inf
+    for i in range(1, n):
+        up = max(up, (x[i] - x[a] - dev) / (i - a))
+        lo = min(lo, (x[i] - x[a] + dev) / (i - a))
+        if up > lo:  # no line from the stored point keeps sample i within the door
+            a = i - 1
+            keep[a] = True
+            up, lo = x[i] - x[a] - dev, x[i] - x[a] + dev
+    prev = 0
+    for i in range(1, n):
+        if keep[i]:
+            for k in range(prev + 1, i):
+                out[k] = x[prev] + (x[i] - x[prev]) * (k - prev) / (i - prev)
+            prev = i
+    return out
+
+
+class SwingingDoorCompression(_Recording):
+    """A swinging-door historian exported interpolated: straight lines between stored points.
+
+    The historian stores a point only when no line from the last stored point keeps the
+    samples since within ``deviation`` of it; an interpolated export (PI's) draws straight
+    lines between the stored points. Unlike :class:`DeadbandCompression` (values held,
+    stepped export) nothing repeats: the rows between stored points lie on lines, and
+    the noise on them is gone (``noise_std`` reads the level from the stored points).
+
+    Parameters
+    ----------
+    deviation : float
+        Compression deviation as a share of each channel's 5-95 % range, in (0, 1].
+    channels : tuple of str, default=("pv", "op")
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.simulation import SwingingDoorCompression
+    >>> rng = np.random.default_rng(0)
+    >>> x = np.sin(np.arange(2000) / 50) + rng.normal(0, 0.02, 2000)
+    >>> out = SwingingDoorCompression(0.03, channels=("pv",)).record({"pv": x}, 1.0, None)
+    >>> bent = np.abs(np.diff(out["pv"], 2)) > 1e-9  # rows where a stored point bends it
+    >>> int(bent.sum()), bool(np.max(np.abs(out["pv"] - x)) < 0.1)
+    (53, True)
+    """
+
+    def __init__(self, deviation, channels=("pv", "op")):
+        self.deviation = _check_share(deviation, "deviation")
+        self.channels = _check_channels(channels)
+
+    def record(self, signals, ts, rng):
+        out = dict(signals)
+        for c in self._present(signals):
+            x = np.array(signals[c], dtype=float)
+            ok = np.isfinite(x)
+            if ok.sum() >= 3:
+                x[ok] = _swinging_door(x[ok], self.deviation * _span(x))
+            out[c] = x
         return out
 
 
