@@ -129,8 +129,7 @@ def noise_std(x):
     >>> round(noise_std(np.sin(np.arange(4000) / 50) + rng.normal(0, 0.1, 4000)), 2)
     0.1
 
-    An interpolated historian export (:func:`drawn_lines`) has no noise left between
-    the points the historian stored, and its noise is read from those points instead:
+    An interpolated export of points stored with white noise reads as that noise:
 
     >>> stored = np.arange(0, 4000, 10)  # rows of the stored points
     >>> points = np.sin(stored / 50) + rng.normal(0, 0.1, stored.size)
@@ -200,10 +199,11 @@ def drawn_lines(x, d2=None):
 
 
 def _stored_noise(x, rows):
-    """Noise sd of an interpolated export from its stored points ``rows``: each point's
-    distance from the line through its two neighbours (for white noise on evenly spaced
-    points ``1.5 sd**2`` in variance), read from the lower quartile (at 0.3186 sd) so that
-    the corners of slips and steps, a minority, do not enter."""
+    """Noise level of an interpolated export from its stored points ``rows``: each point's
+    distance from the line through its two neighbours, read from the lower quartile so
+    that the corners of slips and steps, a minority, do not enter, and scaled so that
+    white noise on evenly spaced points (distances of variance ``1.5 sd**2``, lower
+    quartile at 0.3186 of their sd) reads as its sd."""
     t, v = rows.astype(float), x[rows]
     a, b, c = t[:-2], t[1:-1], t[2:]
     r = v[1:-1] - (v[:-2] + (v[2:] - v[:-2]) * (b - a) / (c - a))
