@@ -219,12 +219,17 @@ def placeholder_mask(x):
         return mask
     # Most records end here, in O(n): placeholders take at most k of the samples, so
     # the others hold the k-th smallest and k-th largest (k < n / 2): their range is at
-    # least the distance between these, their median at least as far from zero as the
-    # nearer of the two when both have one sign; a placeholder's gap is within the range.
+    # least the distance between these. Their median sample is the (n - k) // 2-th to the
+    # (n + k) // 2-th smallest (codes all at the top, all at the bottom), so it is at
+    # least as far from zero as the nearer of those two when both have one sign (not the
+    # k-th smallest: with codes on the top 40 % of the rows that is the others' 75th
+    # percentile); a placeholder's gap is within the range.
     k = int(MAX_PLACEHOLDER_SHARE * y.size)
-    part = np.partition(y, [0, k, y.size - 1 - k, y.size - 1])
+    lo_m, hi_m = (y.size - k) // 2, (y.size + k) // 2
+    part = np.partition(y, [0, lo_m, k, y.size - 1 - k, hi_m, y.size - 1])
     a, b = part[k], part[y.size - 1 - k]
-    level = min(abs(a), abs(b)) if a * b > 0 else 0.0
+    c, d = part[lo_m], part[hi_m]
+    level = min(abs(c), abs(d)) if c * d > 0 else 0.0
     if part[-1] - part[0] <= _PLACEHOLDER_GAP * max(b - a, level):
         return mask
     values, counts = np.unique(y, return_counts=True)
