@@ -145,17 +145,22 @@ def test_coloured_load_is_scaled_lowpass_noise_at_the_output_or_input():
             ColouredLoad(*args, **kwargs)
 
 
-def test_narrowband_disturbance_is_the_resonator_it_says():
-    period, zeta = 25.0, 0.05
-    d = NarrowbandDisturbance(2.0, period, damping=zeta).signals(200_000, 1.0, rng(7))
-    y = d["output_load"]
-    # AR(2) with poles r exp(+-i w sqrt(1 - zeta^2)), r = exp(-zeta w), w = 2 pi / period
+def _assert_resonator(y, period, zeta, atol):
+    """``y`` is AR(2) with poles r exp(+-i w sqrt(1 - zeta^2)), r = exp(-zeta w), w = 2 pi /
+    period: its least-squares AR(2) coefficients are 2 r cos(w sqrt(1 - zeta^2)) and -r^2."""
     w = 2 * np.pi / period
     r = np.exp(-zeta * w)
     A = np.column_stack([y[1:-1], y[:-2]])
     coef = np.linalg.lstsq(A, y[2:], rcond=None)[0]
     np.testing.assert_allclose(coef, [2 * r * np.cos(w * np.sqrt(1 - zeta**2)), -r * r],
-                               atol=2e-3)  # fmt: skip
+                               atol=atol)  # fmt: skip
+
+
+def test_narrowband_disturbance_is_the_resonator_it_says():
+    period, zeta = 25.0, 0.05
+    d = NarrowbandDisturbance(2.0, period, damping=zeta).signals(200_000, 1.0, rng(7))
+    y = d["output_load"]
+    _assert_resonator(y, period, zeta, atol=2e-3)
     # amplitude = sqrt(2) times the standard deviation
     assert y.std() == pytest.approx(2.0 / np.sqrt(2), rel=0.1)
     # the same disturbance in other time units: period and ts scale together
@@ -337,12 +342,7 @@ def test_narrowband_of_a_long_period_starts_stationary():
 def test_narrowband_heavily_damped_poles_and_the_two_sample_limit_in_time_units():
     zeta, period = 0.3, 10.0
     y = NarrowbandDisturbance(1.0, period, damping=zeta).signals(200_000, 1.0, rng(13))
-    y = y["output_load"]
-    w = 2 * np.pi / period
-    r = np.exp(-zeta * w)
-    A = np.column_stack([y[1:-1], y[:-2]])
-    coef = np.linalg.lstsq(A, y[2:], rcond=None)[0]
-    np.testing.assert_allclose(coef, [2 * r * np.cos(w * np.sqrt(1 - zeta**2)), -r * r], atol=5e-3)
+    _assert_resonator(y["output_load"], period, zeta, atol=5e-3)
     with pytest.raises(ValueError, match=re.escape("period must exceed 2 ts = 4.0; got 3.0.")):
         NarrowbandDisturbance(1.0, 3.0).signals(10, 2.0, rng(0))
 
