@@ -134,7 +134,7 @@ def tune_pi(gain, time_constant, delay, rule="amigo"):
     gain = _check_gain(gain)
     tau = check_positive(time_constant, "time_constant")
     L = check_positive(delay, "delay")
-    K = abs(float(gain))
+    K = abs(gain)
     if rule == "amigo":
         kc = (0.15 + (0.35 - L * tau / (L + tau) ** 2) * tau / L) / K
         ti = 0.35 * L + 13 * L * tau**2 / (tau**2 + 12 * L * tau + 7 * L**2)
@@ -176,7 +176,7 @@ def tune_pi_integrating(gain, delay, rule="amigo"):
     """
     gain = _check_gain(gain)
     L = check_positive(delay, "delay")
-    Kv = abs(float(gain))
+    Kv = abs(gain)
     if rule == "amigo":
         return 0.35 / (Kv * L), 13.4 * L
     if rule == "simc":
