@@ -1,0 +1,92 @@
+"""How the scan's two stiction sizes carry over to loops that ``make_loops`` did not make.
+
+``examples/stiction_size.py`` compares the sizes with the true band of ``make_loops``'
+sticky valves, the world the fitted band's scale was set on
+(:data:`sktiction.features.hysteresis.PLAY_BAND_RATIO`, default world, seeds 0-4). This
+script asks the same of the two simulators written apart from it, whose valves and
+bands are defined otherwise:
+
+- the second simulator (``benchmarks/independent_world.py``, draw 2026, 400 loops of
+  6,000 s): a force-balance valve with Karnopp friction, band ``S = 2 Fs``;
+- the third simulator (``benchmarks/third_world.py``, draws 0 and 1, 400 loops each):
+  He 2007, Kano 2004 and force-balance Stribeck valves, some behind a positioner; the
+  truth is the band its own ramp test reads (``band_eff``);
+- a default-world draw the scale was not set on (seed 5, 300 sticky loops).
+
+Among the sticky loops the scan calls sticky, for each size: how many it sizes, the
+median and quartiles of its ratio to the true band, the rank correlation and the share
+within a factor of 2. ``fitted band, as fitted`` is the play operator's band before
+the division by ``PLAY_BAND_RATIO`` (the same fit, so the two rows compare one run).
+
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/stiction_size_elsewhere.py`` (a few minutes)
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from scipy.stats import spearmanr
+
+from sktiction.datasets import make_loops
+from sktiction.features.hysteresis import PLAY_BAND_RATIO
+from sktiction.reports import scan_loops
+
+sys.path.insert(0, str(Path(__file__).parent))
+import independent_world  # noqa: E402
+import third_world  # noqa: E402
+
+
+def judges():
+    """(name, X, true band per loop: 0 for a healthy valve)."""
+    X, _, meta = make_loops(300, n_samples=2000, stiction_fraction=1.0, random_state=5,
+                            return_meta=True)  # fmt: skip
+    yield "default world, seed 5", X, meta["S"].to_numpy(float)
+    X, _, meta = independent_world.make_independent_loops(400, 6000, random_state=2026)
+    yield "second simulator", X, meta["S"].to_numpy(float)
+    for seed in (0, 1):
+        X, _, meta = third_world.make(400, random_state=seed)
+        yield f"third simulator, draw {seed}", X, np.where(meta["sticky"] == 1,
+                                                          meta["band_eff"], 0.0)  # fmt: skip
+
+
+def size_rows(name, report, S):
+    called = (report["verdict"] == "stiction").to_numpy() & (S > 0)
+    p2p = report["stiction_size_mean"].to_numpy(float)
+    fit = report["stiction_band_fit"].to_numpy(float)
+    rows = []
+    for label, size, among in (
+        ("shape library (OP peak-to-peak)", p2p, called),
+        ("fitted band", fit, called),
+        ("fitted band, as fitted", fit * PLAY_BAND_RATIO, called),
+        ("fitted band, no peak-to-peak", fit, called & ~np.isfinite(p2p)),
+    ):
+        ok = among & np.isfinite(size) & (size > 0)
+        ratio = size[ok] / S[ok]
+        rows.append({
+            "judge": name,
+            "size": label,
+            "among": int(among.sum()),
+            "sized": int(ok.sum()),
+            "ratio q25": np.quantile(ratio, 0.25) if ok.any() else np.nan,
+            "ratio median": np.median(ratio) if ok.any() else np.nan,
+            "ratio q75": np.quantile(ratio, 0.75) if ok.any() else np.nan,
+            "rank corr.": spearmanr(size[ok], S[ok])[0] if ok.sum() > 2 else np.nan,
+            "within x2": np.mean((ratio > 0.5) & (ratio < 2.0)) if ok.any() else np.nan,
+        })  # fmt: skip
+    return rows
+
+
+def main():
+    rows = []
+    for name, X, S in judges():
+        rows += size_rows(name, scan_loops(X), S)
+        print(f"scanned {name}", flush=True)
+    pd.set_option("display.width", 200)
+    print(pd.DataFrame(rows).to_string(index=False, float_format="{:.2f}".format))
+
+
+if __name__ == "__main__":
+    main()
