@@ -155,7 +155,7 @@ def valve_band(pv, op):
     jumps with a band below the valve's), 0.70 of it at the median on the default
     world's sticky valves (:data:`PLAY_BAND_RATIO`), so the fit is divided by that.
     How close the size comes to the true band S of sticky valves that a scan calls
-    sticky (``examples/stiction_size.py`` and ``benchmarks/stiction_size_elsewhere.py``;
+    sticky (``examples/stiction_size.py`` and ``benchmarks/sizes_and_confidence.py``;
     ``tests/test_hysteresis.py`` asserts the classic world's and a default-world draw's):
     median ratio 1.10 in the classic world (rank correlation 0.90, within a factor of 2
     for 96 %; 0.77 and 93 % as fitted), 0.87 on a default-world draw the ratio was not

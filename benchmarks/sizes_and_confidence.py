@@ -1,4 +1,4 @@
-"""How the scan's two stiction sizes carry over to loops that ``make_loops`` did not make.
+"""How the scan's stiction sizes and probabilities carry over to loops ``make_loops`` did not make.
 
 ``examples/stiction_size.py`` compares the sizes with the true band of ``make_loops``'
 sticky valves, the world the fitted band's scale was set on
@@ -18,7 +18,11 @@ median and quartiles of its ratio to the true band, the rank correlation and the
 within a factor of 2. ``fitted band, as fitted`` is the play operator's band before
 the division by ``PLAY_BAND_RATIO`` (the same fit, so the two rows compare one run).
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/stiction_size_elsewhere.py`` (a few minutes)
+Then how sure the scan is: among all loops of each simulator written apart (sticky and
+healthy), per bin of ``stiction_probability``, how many loops, their mean probability
+and the share that is sticky. Loops without a probability (no verdict) are left out.
+
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/sizes_and_confidence.py`` (a few minutes)
 """
 
 from __future__ import annotations
@@ -40,16 +44,15 @@ import third_world  # noqa: E402
 
 
 def judges():
-    """(name, X, true band per loop: 0 for a healthy valve)."""
-    X, _, meta = make_loops(300, n_samples=2000, stiction_fraction=1.0, random_state=5,
+    """(name, X, labels (1 sticky), true band per loop: 0 for a healthy valve)."""
+    X, y, meta = make_loops(300, n_samples=2000, stiction_fraction=1.0, random_state=5,
                             return_meta=True)  # fmt: skip
-    yield "default world, seed 5", X, meta["S"].to_numpy(float)
-    X, _, meta = independent_world.make_independent_loops(400, 6000, random_state=2026)
-    yield "second simulator", X, meta["S"].to_numpy(float)
+    yield "default world, seed 5", X, y, meta["S"].to_numpy(float)
+    X, y, meta = independent_world.make_independent_loops(400, 6000, random_state=2026)
+    yield "second simulator", X, y, meta["S"].to_numpy(float)
     for seed in (0, 1):
-        X, _, meta = third_world.make(400, random_state=seed)
-        yield f"third simulator, draw {seed}", X, np.where(meta["sticky"] == 1,
-                                                          meta["band_eff"], 0.0)  # fmt: skip
+        X, y, meta = third_world.make(400, random_state=seed)
+        yield f"third simulator, draw {seed}", X, y, np.where(y == 1, meta["band_eff"], 0.0)
 
 
 def size_rows(name, report, S):
@@ -79,13 +82,37 @@ def size_rows(name, report, S):
     return rows
 
 
+#: Bins of the stiction probability.
+BINS = (0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0 + 1e-9)
+
+
+def reliability(name, report, sticky):
+    """Per probability bin: loops, mean probability, share sticky."""
+    p = report["stiction_probability"].to_numpy(float)
+    ok = np.isfinite(p)
+    table = pd.DataFrame({"p": p[ok], "sticky": sticky[ok]})
+    table["bin"] = pd.cut(table["p"], BINS, right=False)
+    out = table.groupby("bin", observed=True).agg(
+        loops=("p", "size"), mean_probability=("p", "mean"), sticky=("sticky", "mean")
+    )
+    return out.reset_index().assign(judge=name)
+
+
 def main():
-    rows = []
-    for name, X, S in judges():
-        rows += size_rows(name, scan_loops(X), S)
+    rows, calibration = [], []
+    for name, X, y, S in judges():
+        report = scan_loops(X)
+        rows += size_rows(name, report, S)
+        if not name.startswith("default"):  # all its loops are sticky
+            calibration.append(reliability(name, report, y == 1))
         print(f"scanned {name}", flush=True)
     pd.set_option("display.width", 200)
-    print(pd.DataFrame(rows).to_string(index=False, float_format="{:.2f}".format))
+    fmt = "{:.2f}".format
+    print(pd.DataFrame(rows).to_string(index=False, float_format=fmt))
+    print("\nhow sure: per bin of stiction_probability, the share of loops that are sticky")
+    table = pd.concat(calibration)
+    print(table[["judge", "bin", "loops", "mean_probability", "sticky"]].to_string(
+        index=False, float_format=fmt))  # fmt: skip
 
 
 if __name__ == "__main__":
