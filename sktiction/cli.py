@@ -85,16 +85,18 @@ def _parse_channels(text):
 _COMPRESSION = (".gz", ".bz2", ".zip", ".xz", ".zst")  # pandas infers these from the name
 
 
-def _output_format(args):
+def _output_format(args, path=None, flag="-o"):
+    """Format of the file ``path`` (default: ``-o``'s): ``--format``, else its suffix."""
+    path = args.output if path is None else path
     fmt = args.format
-    if fmt is None and args.output:
-        name = Path(args.output)
+    if fmt is None and path:
+        name = Path(path)
         if name.suffix.lower() in _COMPRESSION:  # report.csv.gz: the format is csv
             name = name.with_suffix("")
         suffix = name.suffix.lower().lstrip(".")
         if suffix and suffix not in FORMATS:
             # writing CSV text into report.xlsx would give a file its program cannot open
-            raise UsageError(f"-o {args.output}: no writer for .{suffix} files; use a "
+            raise UsageError(f"{flag} {path}: no writer for .{suffix} files; use a "
                              f".{', .'.join(FORMATS)} name or say --format "
                              f"{{{','.join(FORMATS)}}}.")  # fmt: skip
         fmt = suffix or "csv"
@@ -295,6 +297,24 @@ def _verdict_counts(report):
     return line
 
 
+def _valves(report, path, fmt):
+    """Write the per-valve table to ``path`` when asked; say what it holds when the scan
+    had more records than valves (a valve's records are then pooled)."""
+    if "tag" not in report:
+        return
+    from .reports import summarise_valves
+
+    valves = summarise_valves(report)
+    if path:
+        _write_table(valves, path, fmt)
+        print(f"wrote {len(valves)} valves to {path} ({fmt})", file=sys.stderr)
+    if path or valves["n_records"].sum() > len(valves):
+        counts = valves["verdict"].value_counts()
+        parts = [f"{counts.get(v, 0)} {v}" for v in ("stiction", "no_stiction", "no_verdict")]
+        print(f"verdicts of {len(valves)} valves (stiction when at least half of a valve's "
+              f"judged records say so): " + ", ".join(parts), file=sys.stderr)  # fmt: skip
+
+
 def _print_table(table, file=None):
     with pd.option_context("display.width", 200, "display.max_columns", 20,
                            "display.max_colwidth", 70, "display.float_format",
@@ -362,8 +382,10 @@ def _expand(path):
 def _scan(args):
     channels = _parse_channels(args.channels)
     args.output, args.report = _expand(args.output), _expand(args.report)
+    args.valves = _expand(args.valves)
     fmt = _output_format(args)
-    _check_writable(args.output, args.report)
+    valves_fmt = _output_format(args, args.valves, "--valves") if args.valves else None
+    _check_writable(args.output, args.report, args.valves)
     missing = [p for p in args.paths if not Path(p).exists()]
     if missing:
         raise UsageError("no such file or folder: " + ", ".join(missing))
@@ -410,6 +432,7 @@ def _scan(args):
     table = _console_table(report)
     _print_table(table if args.top is None else _top(table, args.top))
     print("\n" + _verdict_counts(report), file=sys.stderr)
+    _valves(report, args.valves, valves_fmt)
     # a README or a folder index beside the loop files is listed, not a failure; an .xls
     # or .dat file may hold a loop the scan could not read: that is one
     other = _not_loop_files(report, table)
@@ -524,8 +547,12 @@ def build_parser():
     scan.add_argument("paths", nargs="+", help="files or folders")
     scan.add_argument("-o", "--output", help="write the full report to this file")
     scan.add_argument("--format", choices=FORMATS, default=None,
-                      help="format of --output (default: from its suffix, else csv)")
+                      help="format of --output and --valves (default: from each "
+                      "suffix, else csv)")
     scan.add_argument("--report", help="also write a self-contained HTML report here")
+    scan.add_argument("--valves", help="also write one row per valve (tag) here: its "
+                      "records, the share called sticky, median probability and sizes, "
+                      "a verdict per valve")
     scan.add_argument("--channels", help="column names, e.g. pv=FIC101.PV,op=FIC101.OP,"
                       "sp=FIC101.SP (also time=..., mode=...)")
     scan.add_argument("--ts", type=_positive_float, default=None,

@@ -82,6 +82,8 @@ def test_bad_channels_is_a_usage_error(no_training, folder, capsys):
         (["-o", "{tmp}"], "is a folder"),
         (["-o", "{tmp}/no_such_folder/"], "is a folder"),
         (["-o", "{tmp}/report.xlsx"], "no writer for .xlsx"),
+        (["--valves", "{tmp}/valves.xlsx"], "--valves"),
+        (["--valves", "{tmp}/no_such_folder/v.csv"], "no folder"),
         (["-j", "0"], "must not be 0"),
         (["--ts", "0"], "positive number of seconds"),
         (["--ts", "-1"], "positive number of seconds"),
@@ -179,6 +181,22 @@ def test_all_read_exits_0_and_writes_csv(quick, folder, tmp_path, capsys):
     table = pd.read_csv(out)
     assert len(table) == 2
     assert set(table["verdict"]) <= {"stiction", "no_stiction", "no_verdict"}
+
+
+def test_valves_option_writes_one_row_per_tag(quick, tmp_path, capsys):
+    """Three records of two valves (one window copied under another name: its header
+    names the same tag): two rows, each valve's records counted, and the console says
+    how many valves got each verdict."""
+    first, second = sorted(p.name for p in PLANT.iterdir() if p.name.startswith("stic_"))[:2]
+    shutil.copy(PLANT / first, tmp_path / first)
+    shutil.copy(PLANT / first, tmp_path / ("again_" + first))
+    shutil.copy(PLANT / second, tmp_path / second)
+    out = tmp_path / "valves.csv"
+    assert cli.main(["scan", str(tmp_path), "-q", "--valves", str(out)]) == 0
+    valves = pd.read_csv(out)
+    assert sorted(valves["n_records"]) == [1, 2]
+    assert valves.loc[valves["n_records"].eq(2), "tag"].item() == first.split("_")[1]
+    assert "verdicts of 2 valves" in capsys.readouterr().err
 
 
 def test_channels_option_names_the_columns(quick, tmp_path, capsys):

@@ -9,5 +9,6 @@ __getattr__, __dir__, __all__ = attach(
         ".scan": ["scan_loops"],
         ".html": ["write_html_report"],
         "._stream": ["scan_files"],
+        ".valves": ["summarise_valves"],
     },
 )

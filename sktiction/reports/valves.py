@@ -1,0 +1,153 @@
+"""One row per valve: a scan's records of the same tag, summed up.
+
+A daily scan of a site gives one row per loop and file; a month of them gives thirty rows
+per valve, and one valve's two-hour windows can disagree (the plant windows shipped with
+the package: one valve's fitted band reads 0.07-2.2 % from window to window). An engineer
+decides per valve, so the verdict per valve is the share of its judged records called
+sticky, the extension of Srinivasan et al.'s (2005) confidence, the share of sticky
+cycles, to records.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ._stream import STATUS_UNREADABLE
+from .scan import NO_VERDICT, VERDICT_HEALTHY, VERDICT_STICTION
+
+#: Columns of :func:`summarise_valves`' table, after the grouping column.
+COLUMNS = (
+    "loop_type",
+    "n_records",
+    "n_judged",
+    "n_stiction",
+    "stiction_share",
+    "probability_median",
+    "stiction_size_median",
+    "stiction_band_median",
+    "first_start",
+    "last_start",
+    "verdict",
+)
+
+
+def _label(report, by):
+    """The valve of each loop row: its ``by`` value, else its file, else its row."""
+    label = report[by].astype("string")
+    missing = label.isna() | label.str.strip().eq("")
+    if "file" in report:
+        label = label.mask(missing, "file " + report["file"].astype("string"))
+    else:
+        label = label.mask(missing, "row " + pd.Series(report.index, index=report.index)
+                           .astype("string"))  # fmt: skip
+    return label
+
+
+def _median(values):
+    values = pd.to_numeric(values, errors="coerce").to_numpy(dtype=float)
+    values = values[np.isfinite(values)]
+    return float(np.median(values)) if values.size else np.nan
+
+
+def summarise_valves(report, *, by="tag", min_share=0.5):
+    """One row per valve of a scan report: how many of its records were judged, the share
+    called sticky, the median probability and sizes, and a verdict per valve.
+
+    Parameters
+    ----------
+    report : pandas.DataFrame
+        The report of :func:`~sktiction.reports.scan_loops` or
+        :func:`~sktiction.reports.scan_files` (or ``sktiction scan -o``, read back), with
+        at least ``verdict`` and the ``by`` column. Rows of files that held no loop
+        (``status`` ``unreadable``) are not records of a valve and are left out; every
+        other row counts, with or without a verdict.
+    by : str, default="tag"
+        Column naming the valve. A row without it (empty or NaN) is a valve of its own,
+        named ``file <file>`` (or ``row <index>`` without a ``file`` column), so that
+        nothing is pooled by accident.
+    min_share : float, default=0.5
+        A valve whose judged records are called sticky at least this often gets the
+        verdict ``stiction``; one with no judged record gets ``no_verdict``.
+
+    Returns
+    -------
+    valves : pandas.DataFrame
+        Columns ``by`` and :data:`COLUMNS`: ``n_records`` (rows of the valve),
+        ``n_judged`` (rows with a verdict), ``n_stiction``, ``stiction_share``
+        (``n_stiction / n_judged``, NaN without a judged record), ``probability_median``
+        (median ``stiction_probability`` of the judged records), ``stiction_size_median``
+        and ``stiction_band_median`` (medians of ``stiction_size_mean`` and
+        ``stiction_band_fit`` over the records called sticky), ``first_start`` and
+        ``last_start`` (the earliest and latest ``start``, when the report has one),
+        ``verdict``. Sorted by ``stiction_share`` then ``probability_median``, highest
+        first.
+
+    Raises
+    ------
+    ValueError
+        If ``report`` lacks ``verdict`` or the ``by`` column, or ``min_share`` is not in
+        (0, 1].
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from sktiction.reports import summarise_valves
+    >>> report = pd.DataFrame({
+    ...     "tag": ["FIC1", "FIC1", "FIC1", "LIC2"],
+    ...     "verdict": ["stiction", "stiction", "no_stiction", "no_verdict"],
+    ...     "stiction_probability": [0.9, 0.7, 0.2, float("nan")],
+    ... })
+    >>> valves = summarise_valves(report)
+    >>> valves[["tag", "n_records", "n_judged", "stiction_share", "verdict"]]
+        tag  n_records  n_judged  stiction_share     verdict
+    0  FIC1          3         3        0.666667    stiction
+    1  LIC2          1         0             NaN  no_verdict
+    """
+    if not isinstance(report, pd.DataFrame):
+        raise TypeError(f"report must be a pandas DataFrame; got {type(report).__name__}.")
+    missing = [c for c in ("verdict", by) if c not in report]
+    if missing:
+        raise ValueError(f"report has no {' or '.join(map(repr, missing))} column; it has "
+                         f"{list(report.columns)[:12]}. Pass by=<the column naming each "
+                         "valve>.")  # fmt: skip
+    if not 0 < min_share <= 1:
+        raise ValueError(f"min_share must be in (0, 1]; got {min_share!r}.")
+    if "status" in report:
+        report = report[report["status"].astype("string").ne(STATUS_UNREADABLE).fillna(True)]
+    verdict = report["verdict"].astype("string")
+    frame = pd.DataFrame({
+        by: _label(report, by),
+        "judged": verdict.isin([VERDICT_STICTION, VERDICT_HEALTHY]).fillna(False),
+        "sticky": verdict.eq(VERDICT_STICTION).fillna(False),
+    }, index=report.index)  # fmt: skip
+    rows = []
+    for valve, part in frame.groupby(by, sort=False):
+        rec = report.loc[part.index]
+        judged, sticky = part["judged"].to_numpy(), part["sticky"].to_numpy()
+        n_judged, n_sticky = int(judged.sum()), int(sticky.sum())
+        share = n_sticky / n_judged if n_judged else np.nan
+        types = rec["loop_type"].dropna().astype(str) if "loop_type" in rec else pd.Series()
+        starts = (pd.to_datetime(rec["start"], errors="coerce").dropna()
+                  if "start" in rec else pd.Series(dtype="datetime64[ns]"))  # fmt: skip
+        rows.append({
+            by: valve,
+            "loop_type": types.iloc[0] if len(types) else "",
+            "n_records": len(part),
+            "n_judged": n_judged,
+            "n_stiction": n_sticky,
+            "stiction_share": share,
+            "probability_median": _median(rec.get("stiction_probability",
+                                                  pd.Series(np.nan, rec.index))[judged]),
+            "stiction_size_median": _median(rec.get("stiction_size_mean",
+                                                    pd.Series(np.nan, rec.index))[sticky]),
+            "stiction_band_median": _median(rec.get("stiction_band_fit",
+                                                    pd.Series(np.nan, rec.index))[sticky]),
+            "first_start": starts.min() if len(starts) else pd.NaT,
+            "last_start": starts.max() if len(starts) else pd.NaT,
+            "verdict": (NO_VERDICT if not n_judged else
+                        VERDICT_STICTION if share >= min_share else VERDICT_HEALTHY),
+        })  # fmt: skip
+    valves = pd.DataFrame(rows, columns=[by, *COLUMNS])
+    return valves.sort_values(["stiction_share", "probability_median"], ascending=False,
+                              na_position="last", kind="stable").reset_index(drop=True)
