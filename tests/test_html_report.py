@@ -144,3 +144,15 @@ def test_table_sorts_in_the_browser(report_and_loops, tmp_path, how):
     # probability 0.12, 0.71, 0.93 ascending (descending with "-"), then loops without one
     assert order[:3] == ([0, 2, 1] if how == "-name" else [1, 2, 0])
     assert sorted(order[3:]) == [3, 4]
+
+
+def test_valves_with_several_records_are_summed_up_on_the_page(tmp_path):
+    """Two records of FIC1 (one sticky), one of LIC2: the page names FIC1 as sticky in
+    1 of 2 records; with one record per tag the sentence is left out."""
+    report = pd.DataFrame({"tag": ["FIC1", "FIC1", "LIC2"],
+                           "verdict": ["stiction", "no_stiction", "no_stiction"]})
+    text = write_html_report(report, path=tmp_path / "r.html").read_text()
+    assert ("2 valves; called sticky in at least half of their judged records: 1, "
+            "FIC1 (1 of 2)") in text
+    text = write_html_report(report.iloc[1:], path=tmp_path / "s.html").read_text()
+    assert "valves;" not in text

@@ -102,6 +102,22 @@ def _fmt(value, kind):
     return shown, repr(x)
 
 
+def _valve_summary(report):
+    """A sentence on the valves when some valve (tag) has several records, else ""."""
+    if "tag" not in report or "verdict" not in report:
+        return ""
+    from .valves import summarise_valves
+
+    valves = summarise_valves(report)
+    if valves["n_records"].sum() <= len(valves):
+        return ""
+    sticky = valves[valves["verdict"].eq("stiction")]
+    named = ", ".join(f"{t} ({int(k)} of {int(j)})" for t, k, j in
+                      zip(sticky["tag"], sticky["n_stiction"], sticky["n_judged"]))  # fmt: skip
+    return (f". {len(valves)} valves; called sticky in at least half of their judged "
+            f"records: {len(sticky)}" + (f", {named}" if named else ""))
+
+
 def _figure_png(fig, dpi):
     import matplotlib.pyplot as plt
 
@@ -307,6 +323,7 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
 
     counts = table["verdict"].value_counts() if "verdict" in table else pd.Series(dtype=int)
     summary = ", ".join(f"{v}: {int(c)}" for v, c in counts.items())
+    summary += _valve_summary(report)
     sections = []
     for i, png in figures.items():
         name = html.escape(_label(report, i))
