@@ -32,15 +32,16 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from scipy.stats import spearmanr
 
 from sktiction.datasets import make_loops
 from sktiction.features.hysteresis import PLAY_BAND_RATIO
 from sktiction.reports import scan_loops
 
 sys.path.insert(0, str(Path(__file__).parent))
+sys.path.insert(0, str(Path(__file__).parents[1] / "examples"))
 import independent_world  # noqa: E402
 import third_world  # noqa: E402
+from stiction_size import size_row  # noqa: E402  (the example's own measure)
 
 
 def judges():
@@ -59,27 +60,15 @@ def size_rows(name, report, S):
     called = (report["verdict"] == "stiction").to_numpy() & (S > 0)
     p2p = report["stiction_size_mean"].to_numpy(float)
     fit = report["stiction_band_fit"].to_numpy(float)
-    rows = []
-    for label, size, among in (
-        ("shape library (OP peak-to-peak)", p2p, called),
-        ("fitted band", fit, called),
-        ("fitted band, as fitted", fit * PLAY_BAND_RATIO, called),
-        ("fitted band, no peak-to-peak", fit, called & ~np.isfinite(p2p)),
-    ):
-        ok = among & np.isfinite(size) & (size > 0)
-        ratio = size[ok] / S[ok]
-        rows.append({
-            "judge": name,
-            "size": label,
-            "among": int(among.sum()),
-            "sized": int(ok.sum()),
-            "ratio q25": np.quantile(ratio, 0.25) if ok.any() else np.nan,
-            "ratio median": np.median(ratio) if ok.any() else np.nan,
-            "ratio q75": np.quantile(ratio, 0.75) if ok.any() else np.nan,
-            "rank corr.": spearmanr(size[ok], S[ok])[0] if ok.sum() > 2 else np.nan,
-            "within x2": np.mean((ratio > 0.5) & (ratio < 2.0)) if ok.any() else np.nan,
-        })  # fmt: skip
-    return rows
+    return [
+        {"judge": name, "size": label, **size_row(size, S, among)}
+        for label, size, among in (
+            ("shape library (OP peak-to-peak)", p2p, called),
+            ("fitted band", fit, called),
+            ("fitted band, as fitted", fit * PLAY_BAND_RATIO, called),
+            ("fitted band, no peak-to-peak", fit, called & ~np.isfinite(p2p)),
+        )
+    ]
 
 
 #: Bins of the stiction probability.

@@ -30,46 +30,58 @@ from scipy.stats import spearmanr  # noqa: E402
 from sktiction.datasets import make_loops  # noqa: E402
 from sktiction.reports import scan_loops  # noqa: E402
 
-n_loops = int(sys.argv[1]) if len(sys.argv) > 1 else 300
-figure = sys.argv[2] if len(sys.argv) > 2 else "stiction_size.png"
 SIZES = {"stiction_size_mean": "shape library (OP peak-to-peak)",
          "stiction_band_fit": "fitted dead band"}  # fmt: skip
 
-rows = []
-fig, axes = plt.subplots(1, 2, figsize=(10, 4.5), sharex=True, sharey=True)
-for ax, world in zip(axes, ("classic", "default")):
-    X, y, meta = make_loops(n_loops, n_samples=2000, world=world, stiction_fraction=1.0,
-                            random_state=0, return_meta=True)  # fmt: skip
-    report = scan_loops(X)
-    called = (report["verdict"] == "stiction").to_numpy()
-    S = meta["S"].to_numpy()
-    no_cycle_size = ~np.isfinite(report["stiction_size_mean"].to_numpy(dtype=float))
-    for column, label, among in (*((c, lab, called) for c, lab in SIZES.items()),
-                                 ("stiction_band_fit", "fitted band, no peak-to-peak",
-                                  called & no_cycle_size)):  # fmt: skip
-        size = report[column].to_numpy(dtype=float)
-        ok = among & np.isfinite(size) & (size > 0)
-        ratio = size[ok] / S[ok]
-        rows.append({
-            "world": world,
-            "size": label,
-            "among": int(among.sum()),
-            "sized": int(ok.sum()),
-            "ratio q25": np.quantile(ratio, 0.25),
-            "ratio median": np.median(ratio),
-            "ratio q75": np.quantile(ratio, 0.75),
-            "rank corr.": spearmanr(size[ok], S[ok])[0],
-            "within x2": np.mean((ratio > 0.5) & (ratio < 2.0)),
-        })  # fmt: skip
-        if among is called:
-            ax.loglog(S[ok], size[ok], ".", alpha=0.6, label=label)
-    ax.loglog([0.2, 20], [0.2, 20], "k--", lw=0.8, label="size = S")
-    ax.set(title=f"{world} world", xlabel="true band S, % of travel")
-axes[0].set_ylabel("estimated size, % of travel")
-axes[0].legend(fontsize=8)
-fig.tight_layout()
-fig.savefig(figure, dpi=100)
 
-pd.set_option("display.width", 160)
-print(pd.DataFrame(rows).to_string(index=False, float_format="{:.2f}".format))
-print(f"saved {figure}")
+def size_row(size, truth, among):
+    """How close ``size`` comes to ``truth`` over the loops ``among`` that it sizes."""
+    ok = among & np.isfinite(size) & (size > 0)
+    ratio = size[ok] / truth[ok]
+    some = ok.sum() > 2
+    return {
+        "among": int(among.sum()),
+        "sized": int(ok.sum()),
+        "ratio q25": np.quantile(ratio, 0.25) if some else np.nan,
+        "ratio median": np.median(ratio) if some else np.nan,
+        "ratio q75": np.quantile(ratio, 0.75) if some else np.nan,
+        "rank corr.": spearmanr(size[ok], truth[ok])[0] if some else np.nan,
+        "within x2": np.mean((ratio > 0.5) & (ratio < 2.0)) if some else np.nan,
+    }
+
+
+def main(n_loops=300, figure="stiction_size.png"):
+    rows = []
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.5), sharex=True, sharey=True)
+    for ax, world in zip(axes, ("classic", "default")):
+        X, y, meta = make_loops(n_loops, n_samples=2000, world=world, stiction_fraction=1.0,
+                                random_state=0, return_meta=True)  # fmt: skip
+        report = scan_loops(X)
+        called = (report["verdict"] == "stiction").to_numpy()
+        S = meta["S"].to_numpy()
+        no_cycle_size = ~np.isfinite(report["stiction_size_mean"].to_numpy(dtype=float))
+        for column, label, among in (*((c, lab, called) for c, lab in SIZES.items()),
+                                     ("stiction_band_fit", "fitted band, no peak-to-peak",
+                                      called & no_cycle_size)):  # fmt: skip
+            size = report[column].to_numpy(dtype=float)
+            rows.append({"world": world, "size": label, **size_row(size, S, among)})
+            if among is called:
+                ok = among & np.isfinite(size) & (size > 0)
+                ax.loglog(S[ok], size[ok], ".", alpha=0.6, label=label)
+        ax.loglog([0.2, 20], [0.2, 20], "k--", lw=0.8, label="size = S")
+        ax.set(title=f"{world} world", xlabel="true band S, % of travel")
+    axes[0].set_ylabel("estimated size, % of travel")
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(figure, dpi=100)
+
+    pd.set_option("display.width", 160)
+    print(pd.DataFrame(rows).to_string(index=False, float_format="{:.2f}".format))
+    print(f"saved {figure}")
+
+
+if __name__ == "__main__":
+    main(
+        int(sys.argv[1]) if len(sys.argv) > 1 else 300,
+        sys.argv[2] if len(sys.argv) > 2 else "stiction_size.png",
+    )

@@ -102,3 +102,25 @@ def test_an_interpolated_loop_keeps_a_noise_level():
             export, _ = _interpolated(v, 1.5 * sampled)
             assert _rows_noise(export) < 0.1 * sampled
             assert noise_std(export) > sampled
+
+
+def test_a_channel_drawn_through_a_handful_of_points_is_named_too_compressed():
+    """PV drawn as lines through 20 points beside an unrelated OP: no judge can relate
+    them, and both the gate and the learned classifier say why: the export. The same
+    PV sampled (noise on every row) stays pv_op_unrelated."""
+    from sktiction import pretrained_classifier
+    from sktiction.classifiers.applicability import assess_applicability
+    from sktiction.cycles._signal import stored_points
+
+    rng = np.random.default_rng(3)
+    n = 2000
+    points = np.linspace(0, n - 1, 20).astype(int)
+    lines = np.interp(np.arange(n), points, rng.normal(size=20).cumsum())
+    op = rng.normal(size=n).cumsum()
+    sampled = lines + rng.normal(0, 0.2, n)
+    X = np.stack([np.stack([pv, op, np.zeros(n)], axis=1) for pv in (lines, sampled)])
+    assert stored_points(lines) == 20 and stored_points(sampled) is None
+    gate = assess_applicability(X)["reason"].tolist()
+    assert gate == ["too_compressed", "pv_op_unrelated"]
+    learned = pretrained_classifier().diagnose(X)["reason"].tolist()
+    assert learned == ["too_compressed", "pv_op_unrelated"]

@@ -70,6 +70,7 @@ from .._validation import (
 )
 from . import _persistence
 from ._base import said_unjudged
+from .applicability import drawn_through_few
 
 #: Reasons :meth:`LearnedStictionClassifier.diagnose` gives for no verdict, besides the
 #: :func:`~sktiction._validation.loop_status` codes and ``out_of_domain:<feature>``.
@@ -391,6 +392,9 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         follow the control error as a controller's output does (unrelated signals
         give z below 3). Below 10 the coupling must also survive prewhitening
         (z >= 3), so that two unrelated oscillating signals are not taken for a loop.
+        A loop so refused whose PV or OP is drawn as straight lines through fewer than
+        32 points (an export compressed about as much as the channel moves) gets
+        ``too_compressed`` instead: the export, not the loop, hides the relation.
     max_frozen_share : float, default=0.8
         A larger share of steps with PV and OP both frozen gives ``too_compressed``.
     domain_quantile : float, default=0.002
@@ -679,7 +683,11 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
         white = feats["pv_op_coupling_white"].to_numpy()
         weak = (coupling < _WEAK_COUPLING) & ~(white >= _MIN_WHITE)
         ok = status == STATUS_OK
-        status[ok & (~(coupling >= self.min_coupling) | weak)] = REASON_UNRELATED
+        unrelated = np.flatnonzero(ok & (~(coupling >= self.min_coupling) | weak))
+        status[unrelated] = REASON_UNRELATED
+        for i in unrelated:  # the same refusal, named for what the record shows
+            if drawn_through_few(loops[i, : n[i], PV], loops[i, : n[i], OP]):
+                status[i] = REASON_COMPRESSED
         ok = status == STATUS_OK
         status[ok & (feats["frozen_share"].to_numpy() > self.max_frozen_share)] = REASON_COMPRESSED
         return status

@@ -162,6 +162,38 @@ _MIN_ON_THE_WAY = 0.05
 _CLEAN = 1e-3
 
 
+def _line_bends(x, d2):
+    """Where the lines of ``x`` bend (a mask over its second differences ``d2``) when at
+    least :data:`LINE_SHARE` of them vanish and ``x`` is not mostly held, else ``None``."""
+    span = float(np.ptp(x)) if x.size else 0.0
+    if d2.size == 0 or not span > 0 or np.mean(np.diff(x) == 0) >= LINE_SHARE:
+        return None
+    bent = np.abs(d2) > 1e-9 * span
+    return None if np.mean(bent) > 1.0 - LINE_SHARE else bent
+
+
+def stored_points(x):
+    """How many points ``x`` (1-D, finite) is drawn through when it reads as straight
+    lines (the test of :func:`drawn_lines`, without its least count of points or its
+    look at where the lines bend), both ends included; ``None`` for any other record.
+
+    A channel drawn through a handful of points holds too little to read a loop from:
+    an export compressed with a deviation as large as the channel's own movement.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.cycles._signal import stored_points
+    >>> stored_points(np.interp(np.arange(1000), [0, 300, 700, 999], [0.0, 2.0, 1.0, 3.0]))
+    4
+    >>> stored_points(np.random.default_rng(0).normal(size=1000)) is None
+    True
+    """
+    x = np.asarray(x, dtype=float)
+    bent = _line_bends(x, np.diff(x, 2))
+    return None if bent is None else int(bent.sum()) + 2
+
+
 def drawn_lines(x, d2=None):
     """Rows of the points a compressing historian stored when ``x`` (1-D, finite) is an
     interpolated export of them (straight lines drawn between them), else ``None``.
@@ -184,11 +216,8 @@ def drawn_lines(x, d2=None):
     x = np.asarray(x, dtype=float)
     if d2 is None:
         d2 = np.diff(x, 2)
-    span = float(np.ptp(x)) if x.size else 0.0
-    if d2.size < _MIN_STORED or not span > 0 or np.mean(np.diff(x) == 0) >= LINE_SHARE:
-        return None
-    bent = np.abs(d2) > 1e-9 * span
-    if np.mean(bent) > 1.0 - LINE_SHARE:
+    bent = None if d2.size < _MIN_STORED else _line_bends(x, d2)
+    if bent is None:
         return None
     rows = np.concatenate([[0], np.flatnonzero(bent) + 1, [x.size - 1]])
     if rows.size < _MIN_STORED:
