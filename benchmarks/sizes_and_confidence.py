@@ -22,7 +22,10 @@ Then how sure the scan is: among all loops of each simulator written apart (stic
 healthy), per bin of ``stiction_probability``, how many loops, their mean probability
 and the share that is sticky. Loops without a probability (no verdict) are left out.
 
-Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/sizes_and_confidence.py`` (a few minutes)
+Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/sizes_and_confidence.py`` (a few minutes).
+With ``--ratio``, only this: ``PLAY_BAND_RATIO`` measured again, the median of the fit as
+made over the true band, per draw and pooled, among the sticky loops of the default
+world's seeds 0-4 (300 each) that a scan calls sticky.
 """
 
 from __future__ import annotations
@@ -87,7 +90,26 @@ def reliability(name, report, sticky):
     return out.reset_index().assign(judge=name)
 
 
+def play_band_ratio(seeds=range(5), n_loops=300):
+    """The fit as made over the true band: medians per seed and pooled."""
+    ratios = []
+    for seed in seeds:
+        X, _, meta = make_loops(n_loops, n_samples=2000, stiction_fraction=1.0,
+                                random_state=seed, return_meta=True)  # fmt: skip
+        report = scan_loops(X)
+        fit = report["stiction_band_fit"].to_numpy(float) * PLAY_BAND_RATIO
+        ok = (report["verdict"] == "stiction").to_numpy() & np.isfinite(fit) & (fit > 0)
+        ratios.append(fit[ok] / meta["S"].to_numpy(float)[ok])
+        print(f"seed {seed}: {ok.sum()} valves, median {np.median(ratios[-1]):.3f}", flush=True)
+    pooled = np.concatenate(ratios)
+    print(f"pooled: {pooled.size} valves, median {np.median(pooled):.3f} "
+          f"(PLAY_BAND_RATIO = {PLAY_BAND_RATIO})")  # fmt: skip
+
+
 def main():
+    if "--ratio" in sys.argv[1:]:
+        play_band_ratio()
+        return
     rows, calibration = [], []
     for name, X, y, S in judges():
         report = scan_loops(X)

@@ -89,11 +89,15 @@ def _output_format(args, path=None, flag="-o"):
     """Format of the file ``path`` (default: ``-o``'s): ``--format``, else its suffix."""
     path = args.output if path is None else path
     fmt = args.format
-    if fmt is None and path:
+    if path:
         name = Path(path)
         if name.suffix.lower() in _COMPRESSION:  # report.csv.gz: the format is csv
             name = name.with_suffix("")
         suffix = name.suffix.lower().lstrip(".")
+        if fmt is not None and suffix in FORMATS and suffix != fmt:
+            raise UsageError(f"{flag} {path}: a .{suffix} name with --format {fmt}; the "
+                             "file would not be what its name says.")  # fmt: skip
+    if fmt is None and path:
         if suffix and suffix not in FORMATS:
             # writing CSV text into report.xlsx would give a file its program cannot open
             raise UsageError(f"{flag} {path}: no writer for .{suffix} files; use a "
@@ -298,21 +302,30 @@ def _verdict_counts(report):
 
 
 def _valves(report, path, fmt):
-    """Write the per-valve table to ``path`` when asked; say what it holds when the scan
-    had more records than valves (a valve's records are then pooled)."""
-    if "tag" not in report:
-        return
-    from .reports import summarise_valves
+    """Write the per-valve table to ``path`` when asked, and say what it holds when asked
+    or when some valve has several records; False if the table was asked for and could
+    not be made (the scan and its other outputs stand)."""
+    if not path and not ("tag" in report and report["tag"].dropna().duplicated().any()):
+        return True
+    try:
+        from .reports import summarise_valves
 
-    valves = summarise_valves(report)
+        valves = summarise_valves(report)
+        if path:
+            _write_table(valves, path, fmt)
+    except (ValueError, TypeError, OSError) as exc:
+        print(f"\nno table per valve: {exc}", file=sys.stderr)
+        return not path
     if path:
-        _write_table(valves, path, fmt)
         print(f"wrote {len(valves)} valves to {path} ({fmt})", file=sys.stderr)
-    if path or valves["n_records"].sum() > len(valves):
-        counts = valves["verdict"].value_counts()
-        parts = [f"{counts.get(v, 0)} {v}" for v in ("stiction", "no_stiction", "no_verdict")]
-        print(f"verdicts of {len(valves)} valves (stiction when at least half of a valve's "
-              f"judged records say so): " + ", ".join(parts), file=sys.stderr)  # fmt: skip
+        if (valves["n_records"] == 1).all():
+            print("each valve has one record: records are pooled by tag, and a file "
+                  "without tag names is tagged with its file name.", file=sys.stderr)
+    counts = valves["verdict"].value_counts()
+    parts = [f"{counts.get(v, 0)} {v}" for v in ("stiction", "no_stiction", "no_verdict")]
+    print(f"verdicts of {len(valves)} valves (stiction when at least half of a valve's "
+          f"judged records say so): " + ", ".join(parts), file=sys.stderr)  # fmt: skip
+    return True
 
 
 def _print_table(table, file=None):
@@ -386,6 +399,9 @@ def _scan(args):
     fmt = _output_format(args)
     valves_fmt = _output_format(args, args.valves, "--valves") if args.valves else None
     _check_writable(args.output, args.report, args.valves)
+    outputs = [Path(p).resolve() for p in (args.output, args.report, args.valves) if p]
+    if len(set(outputs)) < len(outputs):
+        raise UsageError("-o, --report and --valves name the same file; give each its own.")
     missing = [p for p in args.paths if not Path(p).exists()]
     if missing:
         raise UsageError("no such file or folder: " + ", ".join(missing))
@@ -432,7 +448,7 @@ def _scan(args):
     table = _console_table(report)
     _print_table(table if args.top is None else _top(table, args.top))
     print("\n" + _verdict_counts(report), file=sys.stderr)
-    _valves(report, args.valves, valves_fmt)
+    valves_failed = not _valves(report, args.valves, valves_fmt)
     # a README or a folder index beside the loop files is listed, not a failure; an .xls
     # or .dat file may hold a loop the scan could not read: that is one
     other = _not_loop_files(report, table)
@@ -447,7 +463,7 @@ def _scan(args):
         print(f"\n{failed} of {len(table)} files or loops could not be read (see 'read' and "
               f"'reason'); exit code {EXIT_READ_FAILURES}.", file=sys.stderr)
         return EXIT_READ_FAILURES
-    return EXIT_OK
+    return EXIT_READ_FAILURES if valves_failed else EXIT_OK
 
 
 def _demo(args):

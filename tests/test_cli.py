@@ -83,6 +83,8 @@ def test_bad_channels_is_a_usage_error(no_training, folder, capsys):
         (["-o", "{tmp}/no_such_folder/"], "is a folder"),
         (["-o", "{tmp}/report.xlsx"], "no writer for .xlsx"),
         (["--valves", "{tmp}/valves.xlsx"], "--valves"),
+        (["--valves", "{tmp}/v.csv", "--format", "json"], "not be what its name says"),
+        (["-o", "{tmp}/a.csv", "--valves", "{tmp}/a.csv"], "name the same file"),
         (["--valves", "{tmp}/no_such_folder/v.csv"], "no folder"),
         (["-j", "0"], "must not be 0"),
         (["--ts", "0"], "positive number of seconds"),

@@ -57,13 +57,29 @@ def test_min_share_and_the_grouping_column():
     assert "valve" in by_file and by_file["n_records"].sum() == 8
 
 
+def test_awkward_reports_keep_every_record():
+    """Scans joined with pd.concat (repeated index labels), rows with neither tag nor
+    file, tags of numbers with a gap and tags padded with spaces."""
+    twice = pd.concat([report(), report()])
+    valves = summarise_valves(twice).set_index("tag")
+    assert valves.loc["A", "n_records"] == 6 and valves["n_records"].sum() == 16
+    bare = pd.DataFrame({"tag": [101.0, np.nan, np.nan, " 101 "],
+                         "verdict": ["stiction", "no_stiction", "stiction", "no_stiction"]})
+    valves = summarise_valves(bare).set_index("tag")
+    assert sorted(valves.index) == ["101", "row 1", "row 2"]
+    assert valves.loc["101", "n_records"] == 2 and valves["n_records"].sum() == 4
+
+
 def test_bad_input_is_named():
     with pytest.raises(ValueError, match="'tag'"):
         summarise_valves(report().drop(columns="tag"))
     with pytest.raises(ValueError, match="'verdict'"):
         summarise_valves(report().drop(columns="verdict"))
-    with pytest.raises(ValueError, match="min_share"):
-        summarise_valves(report(), min_share=0)
+    for bad in (0, 1.5, True, "0.5"):
+        with pytest.raises(ValueError, match="min_share"):
+            summarise_valves(report(), min_share=bad)
+    with pytest.raises(ValueError, match="column of valve tags"):
+        summarise_valves(report(), by="verdict")
     with pytest.raises(TypeError, match="DataFrame"):
         summarise_valves(report().to_dict())
 

@@ -33,10 +33,11 @@ Every threshold is a chance level or a physical bound, none is fitted to measure
   or OP changes on fewer than :data:`MIN_CHANGES` samples (fewer than the 32 points one
   cycle is averaged into for template matching); and, in place of ``pv_op_unrelated``, a
   loop whose PV or OP is drawn as straight lines through fewer than :data:`MIN_CHANGES`
-  points (an interpolated export compressed with a deviation about as large as the
-  channel's movement: 44 and 35 of the 62 and 63 loops the coherence refused among the
-  third simulator's 400 interpolated exports of ``benchmarks/third_world.py``, draws 0 and
-  1, whose sampled copies it refused 2 and 3 times). Such a loop is refused only when the
+  points that bend on their way, not only where they turn back (an interpolated export
+  compressed with a deviation about as large as the channel's movement: 32 and 26 of the
+  62 and 63 loops the coherence refused among the third simulator's 400 interpolated
+  exports of ``benchmarks/third_world.py``, draws 0 and 1, whose sampled copies it refused
+  2 and 3 times; a clean triangle or a ramp is no export). Such a loop is refused only when the
   coherence refuses it: a few-point square wave of a sticky valve is evidence (refusing
   every loop drawn through fewer points lost 0.03 of balanced accuracy on the default
   world's exports). Repeat shares are those of
@@ -264,8 +265,9 @@ def _prepare(x):
 
 def drawn_through_few(pv, op):
     """Whether PV or OP is drawn as straight lines through fewer than :data:`MIN_CHANGES`
-    points (:func:`~sktiction.cycles._signal.stored_points`): an export so compressed
-    that PV and OP cannot look related, whatever the loop."""
+    points that bend on their way, not only where they turn back
+    (:func:`~sktiction.cycles._signal.stored_points`): an export so compressed that
+    PV and OP may not look related even where the loop relates them."""
     counts = (stored_points(pv), stored_points(op))
     return any(c is not None and c < MIN_CHANGES for c in counts)
 

@@ -172,10 +172,20 @@ def _line_bends(x, d2):
     return None if np.mean(bent) > 1.0 - LINE_SHARE else bent
 
 
+def _bends_on_the_way(x, rows):
+    """Whether the lines of ``x`` through ``rows`` bend on their way up or down, not only
+    where they turn back (a clean triangle, a noise-free simulation)."""
+    if rows.size < 3:
+        return False
+    slope = np.diff(x[rows]) / np.diff(rows)
+    turns = np.sign(slope[1:]) * np.sign(slope[:-1]) < 0
+    return np.mean(~turns) >= _MIN_ON_THE_WAY
+
+
 def stored_points(x):
     """How many points ``x`` (1-D, finite) is drawn through when it reads as straight
-    lines (the test of :func:`drawn_lines`, without its least count of points or its
-    look at where the lines bend), both ends included; ``None`` for any other record.
+    lines (the test of :func:`drawn_lines` without its least count of points), both ends
+    included; ``None`` for any other record, a single straight line included.
 
     A channel drawn through a handful of points holds too little to read a loop from:
     an export compressed with a deviation as large as the channel's own movement.
@@ -184,14 +194,20 @@ def stored_points(x):
     --------
     >>> import numpy as np
     >>> from sktiction.cycles._signal import stored_points
-    >>> stored_points(np.interp(np.arange(1000), [0, 300, 700, 999], [0.0, 2.0, 1.0, 3.0]))
+    >>> stored_points(np.interp(np.arange(1000), [0, 300, 700, 999], [0.0, 2.0, 3.0, 1.0]))
     4
+    >>> t = np.arange(1000)  # a clean triangle turns at every point: no export
+    >>> stored_points(np.abs((t % 200) - 100.0)) is None
+    True
     >>> stored_points(np.random.default_rng(0).normal(size=1000)) is None
     True
     """
     x = np.asarray(x, dtype=float)
     bent = _line_bends(x, np.diff(x, 2))
-    return None if bent is None else int(bent.sum()) + 2
+    if bent is None:
+        return None
+    rows = np.concatenate([[0], np.flatnonzero(bent) + 1, [x.size - 1]])
+    return int(rows.size) if _bends_on_the_way(x, rows) else None
 
 
 def drawn_lines(x, d2=None):
@@ -222,9 +238,7 @@ def drawn_lines(x, d2=None):
     rows = np.concatenate([[0], np.flatnonzero(bent) + 1, [x.size - 1]])
     if rows.size < _MIN_STORED:
         return None
-    slope = np.diff(x[rows]) / np.diff(rows)
-    turns = np.sign(slope[1:]) * np.sign(slope[:-1]) < 0
-    return rows if np.mean(~turns) >= _MIN_ON_THE_WAY else None
+    return rows if _bends_on_the_way(x, rows) else None
 
 
 def _stored_noise(x, rows):

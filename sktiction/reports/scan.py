@@ -441,8 +441,8 @@ def scan_loops(
     (:func:`~sktiction.features.hysteresis.valve_band`, OP units; NaN unless the
     verdict is stiction), so a valve that slips without oscillating is sized too,
     scaled so that its median meets the true band on the default world's sticky
-    valves: median 1.10 of the true band in ``make_loops``' classic world, 0.87 on
-    another draw of its default world, 0.79 and 1.01-1.10 in two simulators written
+    valves: median 1.10 of the true band in ``make_loops``' classic world, 0.87-1.06 on
+    four other draws of its default world, 0.79 and 1.01-1.10 in two simulators written
     apart (``examples/stiction_size.py``, ``benchmarks/sizes_and_confidence.py``).
     Each loop's signals are
     analysed once and the analysis shared by the three. ``reason`` explains the

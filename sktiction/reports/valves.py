@@ -1,14 +1,17 @@
 """One row per valve: a scan's records of the same tag, summed up.
 
 A daily scan of a site gives one row per loop and file; a month of them gives thirty rows
-per valve, and one valve's two-hour windows can disagree (the plant windows shipped with
-the package: one valve's fitted band reads 0.07-2.2 % from window to window). An engineer
-decides per valve, so the verdict per valve is the share of its judged records called
-sticky, the extension of Srinivasan et al.'s (2005) confidence, the share of sticky
-cycles, to records.
+per valve, and one valve's two-hour windows can disagree (in the plant windows of
+``../shared/data``, one valve's fitted band reads 0.07-2.2 % from window to window). An
+engineer decides per valve, so the verdict per valve is the share of its judged records
+called sticky, the extension of Srinivasan et al.'s (2005) confidence, the share of sticky
+cycles, to records. Records are pooled by their tag: a historian export names it; a plain
+CSV file without tag names is tagged with its file name, so each such file is a valve.
 """
 
 from __future__ import annotations
+
+import numbers
 
 import numpy as np
 import pandas as pd
@@ -32,16 +35,32 @@ COLUMNS = (
 )
 
 
+def _text(values):
+    """Values as stripped text, whole numbers without a decimal point (a tag column of
+    numbers with a gap reads 101, not 101.0); missing values stay missing."""
+    def whole(v):
+        return int(v) if isinstance(v, float) and np.isfinite(v) and v % 1 == 0 else v
+
+    return pd.Series(values).astype(object).map(whole).astype("string").str.strip()
+
+
 def _label(report, by):
     """The valve of each loop row: its ``by`` value, else its file, else its row."""
-    label = report[by].astype("string")
-    missing = label.isna() | label.str.strip().eq("")
+    label = _text(report[by])
+    rows = "row " + pd.Series(report.index, index=report.index).astype("string")
     if "file" in report:
-        label = label.mask(missing, "file " + report["file"].astype("string"))
+        fallback = ("file " + _text(report["file"])).fillna(rows)
     else:
-        label = label.mask(missing, "row " + pd.Series(report.index, index=report.index)
-                           .astype("string"))  # fmt: skip
-    return label
+        fallback = rows
+    return label.mask(label.isna() | label.eq(""), fallback)
+
+
+def _starts(values):
+    """Timestamps of ``start``; several UTC offsets are read in UTC rather than refused."""
+    try:
+        return pd.to_datetime(values, errors="coerce")
+    except (ValueError, TypeError):
+        return pd.to_datetime(values, errors="coerce", utc=True)
 
 
 def _median(values):
@@ -63,9 +82,9 @@ def summarise_valves(report, *, by="tag", min_share=0.5):
         (``status`` ``unreadable``) are not records of a valve and are left out; every
         other row counts, with or without a verdict.
     by : str, default="tag"
-        Column naming the valve. A row without it (empty or NaN) is a valve of its own,
-        named ``file <file>`` (or ``row <index>`` without a ``file`` column), so that
-        nothing is pooled by accident.
+        Column naming the valve (read as text, stripped of spaces). A row without it
+        (empty or NaN) is a valve of its own, named ``file <file>`` (``row <position>``
+        without a file), so that nothing is pooled by accident.
     min_share : float, default=0.5
         A valve whose judged records are called sticky at least this often gets the
         verdict ``stiction``; one with no judged record gets ``no_verdict``.
@@ -85,9 +104,11 @@ def summarise_valves(report, *, by="tag", min_share=0.5):
 
     Raises
     ------
+    TypeError
+        If ``report`` is not a DataFrame.
     ValueError
-        If ``report`` lacks ``verdict`` or the ``by`` column, or ``min_share`` is not in
-        (0, 1].
+        If ``report`` lacks ``verdict`` or the ``by`` column, ``by`` names a column of
+        the summary, or ``min_share`` is not a number in (0, 1].
 
     Examples
     --------
@@ -111,10 +132,15 @@ def summarise_valves(report, *, by="tag", min_share=0.5):
         raise ValueError(f"report has no {' or '.join(map(repr, missing))} column; it has "
                          f"{list(report.columns)[:12]}. Pass by=<the column naming each "
                          "valve>.")  # fmt: skip
-    if not 0 < min_share <= 1:
-        raise ValueError(f"min_share must be in (0, 1]; got {min_share!r}.")
+    if by in COLUMNS or by == "verdict":
+        raise ValueError(f"by={by!r} is a column of the summary; name the column of valve "
+                         "tags.")  # fmt: skip
+    if (isinstance(min_share, bool) or not isinstance(min_share, numbers.Real)
+            or not 0 < min_share <= 1):  # fmt: skip
+        raise ValueError(f"min_share must be a number in (0, 1]; got {min_share!r}.")
     if "status" in report:
         report = report[report["status"].astype("string").ne(STATUS_UNREADABLE).fillna(True)]
+    report = report.reset_index(drop=True)  # concatenated scans repeat index labels
     verdict = report["verdict"].astype("string")
     frame = pd.DataFrame({
         by: _label(report, by),
@@ -122,14 +148,13 @@ def summarise_valves(report, *, by="tag", min_share=0.5):
         "sticky": verdict.eq(VERDICT_STICTION).fillna(False),
     }, index=report.index)  # fmt: skip
     rows = []
-    for valve, part in frame.groupby(by, sort=False):
+    for valve, part in frame.groupby(by, sort=False, dropna=False):
         rec = report.loc[part.index]
         judged, sticky = part["judged"].to_numpy(), part["sticky"].to_numpy()
         n_judged, n_sticky = int(judged.sum()), int(sticky.sum())
         share = n_sticky / n_judged if n_judged else np.nan
         types = rec["loop_type"].dropna().astype(str) if "loop_type" in rec else pd.Series()
-        starts = (pd.to_datetime(rec["start"], errors="coerce").dropna()
-                  if "start" in rec else pd.Series(dtype="datetime64[ns]"))  # fmt: skip
+        starts = _starts(rec["start"]).dropna() if "start" in rec else pd.Series()
         rows.append({
             by: valve,
             "loop_type": types.iloc[0] if len(types) else "",
