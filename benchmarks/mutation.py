@@ -243,6 +243,20 @@ TARGETED = {
         )),
         "tests/test_cleaning_known_answers.py",
     ],
+    "sktiction/simulation/historian.py": [
+        "tests/test_simulation.py", "tests/test_interpolated_exports.py",
+        "tests/test_realism.py::test_statistics_separate_hold_compression_and_grid",
+        "tests/test_historian_known_answers.py",
+    ],
+    # the four compare tests of tests/test_realism.py share a 4 s fixture (1,280 loops)
+    "sktiction/realism/compare.py": [
+        "tests/test_compare_known_answers.py",
+        *(f"tests/test_realism.py::{test}"
+          for test in ("test_compare_table_and_domain_auc",
+                       "test_compare_reads_bunches_and_statistics",
+                       "test_nothing_hidden_nothing_significant",
+                       "test_hidden_effect_ranked_first")),
+    ],
 }  # fmt: skip
 
 # mutmut's exit codes (mutmut/stats.py)
