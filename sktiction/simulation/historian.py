@@ -134,7 +134,11 @@ class HoldLastValue(_Recording):
     Parameters
     ----------
     fraction : float
-        Expected share of rows frozen, in (0, 1).
+        Sets the share of rows frozen, in (0, 1]. Each run follows an unheld row, so the
+        expected share is ``mean_run / (mean_run / fraction + 1)``, a little below
+        ``fraction`` (0.28 for 0.3 at runs of 5, 0.40 for 0.5 at runs of 2) and at most
+        ``mean_run / (mean_run + 1)``; kept as it is so that worlds made before are made
+        again to the bit.
     mean_run : float, default=5.0
         Mean length of a frozen run in samples (>= 1); run lengths are geometric.
     channels : tuple of str, default=("pv", "op", "sp")
