@@ -182,28 +182,6 @@ def test_integer_records_come_back_as_float_and_inputs_untouched(effect):
 # ---------------------------------------------------------------- hold last value
 
 
-def _one_at_a_time(fraction, mean_run, n, r):
-    """The mask by its definition: gap, run, gap, run, ... drawn one at a time."""
-    f = min(fraction, 0.99)
-    mean_gap = mean_run * (1.0 - f) / f
-    held = np.zeros(n, dtype=bool)
-    k = int(r.geometric(1.0 / (1.0 + mean_gap)))
-    while k < n:
-        run = int(r.geometric(1.0 / mean_run))
-        held[k : k + run] = True
-        k += run + int(r.geometric(1.0 / (1.0 + mean_gap)))
-    return held
-
-
-def test_hold_mask_when_the_first_batch_of_draws_falls_short():
-    """Seed 10 draws runs that the first batch does not cover (5000 samples, runs of 20):
-    the batch is drawn again, larger, and the mask is still the one-at-a-time one."""
-    a, b = rng(10), rng(10)
-    expected = _one_at_a_time(0.5, 20.0, 5000, b)
-    assert np.array_equal(HoldLastValue(0.5, 20.0).mask(5000, a), expected)
-    assert a.random() == b.random()
-
-
 def test_hold_share_and_run_lengths():
     """Runs are geometric with mean ``mean_run``; every run follows a stored row, so the
     share held is mean_run / (mean_run / fraction + 1) (fraction capped at 0.99): 0.2830

@@ -482,8 +482,11 @@ def test_hold_mask_draws_like_one_run_at_a_time():
         return held
 
     draw = np.random.default_rng(0)
-    for seed in range(60):
-        fraction, mean_run, n = draw.uniform(0.01, 1.0), draw.uniform(1.0, 30.0), 1 + seed * 40
+    cases = [(seed, draw.uniform(0.01, 1.0), draw.uniform(1.0, 30.0), 1 + seed * 40)
+             for seed in range(60)]  # fmt: skip
+    # seed 10 draws runs the first batch does not cover: the batch is drawn again, larger
+    cases.append((10, 0.5, 20.0, 5000))
+    for seed, fraction, mean_run, n in cases:
         a, b = np.random.default_rng(seed), np.random.default_rng(seed)
         assert np.array_equal(HoldLastValue(fraction, mean_run).mask(n, a),
                               one_at_a_time(fraction, mean_run, n, b))  # fmt: skip
