@@ -162,24 +162,23 @@ _MIN_ON_THE_WAY = 0.05
 _CLEAN = 1e-3
 
 
-def _line_bends(x, d2):
-    """Where the lines of ``x`` bend (a mask over its second differences ``d2``) when at
-    least :data:`LINE_SHARE` of them vanish and ``x`` is not mostly held, else ``None``."""
+def _stored_rows(x, d2):
+    """Rows where the lines of ``x`` bend, and both ends, when at least
+    :data:`LINE_SHARE` of its second differences ``d2`` vanish, ``x`` is not mostly held
+    and its lines bend on their way up or down, not only where they turn back (a clean
+    triangle, a noise-free simulation); else ``None``."""
     span = float(np.ptp(x)) if x.size else 0.0
     if d2.size == 0 or not span > 0 or np.mean(np.diff(x) == 0) >= LINE_SHARE:
         return None
     bent = np.abs(d2) > 1e-9 * span
-    return None if np.mean(bent) > 1.0 - LINE_SHARE else bent
-
-
-def _bends_on_the_way(x, rows):
-    """Whether the lines of ``x`` through ``rows`` bend on their way up or down, not only
-    where they turn back (a clean triangle, a noise-free simulation)."""
+    if np.mean(bent) > 1.0 - LINE_SHARE:
+        return None
+    rows = np.concatenate([[0], np.flatnonzero(bent) + 1, [x.size - 1]])
     if rows.size < 3:
-        return False
+        return None
     slope = np.diff(x[rows]) / np.diff(rows)
     turns = np.sign(slope[1:]) * np.sign(slope[:-1]) < 0
-    return np.mean(~turns) >= _MIN_ON_THE_WAY
+    return rows if np.mean(~turns) >= _MIN_ON_THE_WAY else None
 
 
 def stored_points(x):
@@ -203,11 +202,8 @@ def stored_points(x):
     True
     """
     x = np.asarray(x, dtype=float)
-    bent = _line_bends(x, np.diff(x, 2))
-    if bent is None:
-        return None
-    rows = np.concatenate([[0], np.flatnonzero(bent) + 1, [x.size - 1]])
-    return int(rows.size) if _bends_on_the_way(x, rows) else None
+    rows = _stored_rows(x, np.diff(x, 2))
+    return None if rows is None else int(rows.size)
 
 
 def drawn_lines(x, d2=None):
@@ -232,13 +228,8 @@ def drawn_lines(x, d2=None):
     x = np.asarray(x, dtype=float)
     if d2 is None:
         d2 = np.diff(x, 2)
-    bent = None if d2.size < _MIN_STORED else _line_bends(x, d2)
-    if bent is None:
-        return None
-    rows = np.concatenate([[0], np.flatnonzero(bent) + 1, [x.size - 1]])
-    if rows.size < _MIN_STORED:
-        return None
-    return rows if _bends_on_the_way(x, rows) else None
+    rows = None if d2.size < _MIN_STORED else _stored_rows(x, d2)
+    return rows if rows is not None and rows.size >= _MIN_STORED else None
 
 
 def _stored_noise(x, rows):
