@@ -186,6 +186,15 @@ def make_signal(kind, rng, info=None):
         if rng.random() < 0.5:
             x = _quantise(x, rng.uniform(0.05, 0.3))
         return x, 1, [p]
+    if kind == "level_steps":  # operator or load moves, 3-30 times the cycle's amplitude
+        p = rng.uniform(15, top)
+        x = _wandering(rng, n, p, 0.08, 0.15, shape) + _noise(rng, n, rng.uniform(0.05, 0.4))
+        level = np.zeros(n)
+        for t in rng.integers(int(0.03 * n), int(0.97 * n), int(rng.integers(1, 4))):
+            level[t:] += rng.uniform(3, 30) * rng.choice([-1, 1])
+        if rng.random() < 0.5:  # as a first-order response would record them
+            level = np.asarray(_lag(level, rng.uniform(2, 30)))
+        return x + level, 1, [p]
     # ---- non-oscillating counterparts
     if kind == "coloured_noise":
         if rng.random() < 0.5:
@@ -275,12 +284,13 @@ OSCILLATING = (
     "few_slow_cycles",
     "compressed",
     "very_irregular",
+    "level_steps",
 )
 QUIET = ("coloured_noise", "random_walk", "steps", "repeated_noise", "drift", "closed_loop")
 #: Random stream of each class (a class added later gets a new one, so that the others
 #: keep their signals).
-STREAM = {kind: i for i, kind in enumerate(OSCILLATING[:-1] + QUIET[:-1] + OSCILLATING[-1:]
-                                           + QUIET[-1:])}  # fmt: skip
+STREAM = {kind: i for i, kind in enumerate(OSCILLATING[:-2] + QUIET[:-1] + OSCILLATING[-2:-1]
+                                           + QUIET[-1:] + OSCILLATING[-1:])}  # fmt: skip
 
 
 def period_found(analysis, periods, tol=0.2):

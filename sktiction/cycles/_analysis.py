@@ -8,6 +8,7 @@ import numpy as np
 from numba import njit
 from scipy.fft import irfft
 
+from ._level_shifts import without_level_shifts
 from ._oscillation import MAX_CONFIRMATION, SCORE_SCALE, _components, _power_spectrum
 from ._signal import (
     dominant_period,
@@ -71,6 +72,10 @@ class CycleAnalysis:
         Thornhill's regularity r of each oscillating component's ACF zero crossings.
     components : list of OscillationComponent
         All components examined, oscillating or not, strongest index first.
+    level_shifts : ndarray of int
+        Samples where a level shift (an operator move, a load change) was taken out
+        before the signal was read (see :func:`analyze_cycles`); empty when the record
+        was read as it is. ``centred`` is then the record without them.
     """
 
     centred: np.ndarray
@@ -88,6 +93,7 @@ class CycleAnalysis:
     periods: np.ndarray = field(default_factory=lambda: np.empty(0))
     regularities: np.ndarray = field(default_factory=lambda: np.empty(0))
     components: list = field(default_factory=list)
+    level_shifts: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
 
     @property
     def half_cycles(self):
@@ -277,6 +283,12 @@ def analyze_cycles(
     clean slow cycles, which the spectrum alone cannot tell from a random walk, is
     still found), and the decision is read again.
 
+    Level shifts: when the record as it is shows no oscillation but holds level shifts
+    (operator moves, load changes; :func:`~sktiction.cycles._level_shifts.level_shifts`), whose
+    spectrum can bury a cycle many times smaller, it is read again with the shifts
+    taken out, and that reading is kept if it finds an oscillation
+    (``level_shifts`` lists them). A record that oscillates as it is keeps its reading.
+
     Parameters
     ----------
     x : array-like of shape (n_samples,)
@@ -325,6 +337,22 @@ def _analyze_cycles(x, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
     """:func:`analyze_cycles` of a signal the caller has checked (inside a loop, a gap
     gives NaN features rather than an error)."""
     x = np.asarray(x, dtype=float)
+    args = (min_cycles, hysteresis, tolerance, min_acf, threshold)
+    analysis = _read_cycles(x, *args, dominant)
+    if analysis.oscillating or x.size < 20 or not np.ptp(x) > 0:
+        return analysis
+    flat, shifts = without_level_shifts(x)
+    if shifts.size == 0:
+        return analysis
+    second = _read_cycles(flat, *args, None)
+    if not second.oscillating:
+        return analysis
+    second.level_shifts = shifts
+    return second
+
+
+def _read_cycles(x, min_cycles, hysteresis, tolerance, min_acf, threshold, dominant):
+    """One reading of :func:`_analyze_cycles`: the record as it is given."""
     if dominant is None:
         dominant = lambda: dominant_period(x)  # noqa: E731
     components, p0, strength = [], np.nan, 0.0

@@ -8,6 +8,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.fft import irfft, next_fast_len, rfft
 
+from ._level_shifts import without_level_shifts
 from ._signal import one_signal
 
 
@@ -177,6 +178,10 @@ def detect_oscillations(
        third, Thornhill's r about 1) keeps little phase memory but still stands out
        of the spectrum. Thornhill's r is reported, not used to decide: the band
        filter makes the ACF crossings of noise regular too.
+    8. When no component oscillates and the record holds level shifts (operator
+       moves, load changes: :func:`~sktiction.cycles._level_shifts.level_shifts`), whose spectrum
+       can bury a cycle many times smaller, steps 1-7 are run again with the shifts
+       taken out, and those components are returned if one of them oscillates.
 
     The thresholds were set on simulated signals of the failure classes that
     ``benchmarks/bench_oscillation.py`` generates (never on measured loops).
@@ -225,6 +230,18 @@ def detect_oscillations(
     x = one_signal(x)
     if x.size < 4 * min_period or np.ptp(x) == 0:
         return []
+    args = (max_components, min_period, min_cycles, bandwidth, threshold)
+    found = _spectral_components(x, *args)
+    if any(c.index > threshold for c in found):
+        return found
+    flat, shifts = without_level_shifts(x)
+    if shifts.size == 0:
+        return found
+    second = _spectral_components(flat, *args)
+    return second if any(c.index > threshold for c in second) else found
+
+
+def _spectral_components(x, max_components, min_period, min_cycles, bandwidth, threshold):
     power, m, _, spacing = _power_spectrum(x)
     return _components(
         power, m, x.size, max_components, min_period * spacing, min_cycles, bandwidth, threshold

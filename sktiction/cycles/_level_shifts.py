@@ -1,0 +1,168 @@
+"""Level shifts (operator moves, load changes, setpoint steps) that hide a cycle.
+
+A step of size S in a record of n samples puts about (S n / (2 pi k))**2 of power
+into bin k of the periodogram, against (A n / 2)**2 for a cycle of amplitude A
+there, and into the band around the cycle that its ACF is read from: a
+production-rate change 5-50 times a cycle's amplitude hides cycles that the eye sees
+at once (``benchmarks/bench_oscillation.py``, class ``level_steps``). Where a record
+that shows no oscillation holds such shifts, it is read again without them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._signal import fast_median, fast_percentile
+
+#: A shift must exceed this many interquartile ranges of the windows either side of it.
+SHIFT_RATIO = 3.0
+#: Most shifts taken out of one record.
+MAX_SHIFTS = 6
+#: Multiples of the windows and gap tried in turn: a transition lagged by a slow
+#: response or a filter needs a wider gap.
+SCALES = (1, 2, 4)
+
+
+def _windows(n):
+    """Length of the windows compared either side of a shift (a twentieth of the
+    record) and of the gap left between them for a lagged transition (half that)."""
+    w = max(n // 20, 10)
+    return w, max(w // 2, 1)
+
+
+def _iqr(y):
+    q1, q3 = fast_percentile(y, [25, 75])
+    return q3 - q1
+
+
+def _best_shift(s, w, g, ratio):
+    """Where a level shift in ``s`` most likely is (the CUSUM's extreme) and how many
+    window spreads it measures, by the tests of :func:`level_shifts` with windows of
+    ``w`` samples ``g`` samples off the point; ``None`` when it is not a shift."""
+    n = s.size
+    short = max(w // 4, 5)  # a window cut short by the stretch's end
+    if n < 2 * (short + g):
+        return None
+    c = np.cumsum(s - s.mean())
+    k = int(np.argmax(np.abs(c[short + g - 1 : n - short - g]))) + short + g  # left: s[:k]
+    before, after = s[max(0, k - g - w) : k - g], s[k + g : k + g + w]
+    change = fast_median(after) - fast_median(before)
+    spread = max(_iqr(before), _iqr(after))
+    near = fast_median(s[k : k + g]) - fast_median(s[k - g : k])
+    if not (abs(change) > ratio * spread and near * change > 0 and abs(near) >= 0.5 * abs(change)):
+        return None
+    if max(_drift(before), _drift(after)) > 0.25 * abs(change):
+        return None
+    return k, abs(change) / max(spread, 1e-300)
+
+
+def _drift(y):
+    """Change of the median from the first half of ``y`` to the second."""
+    h = y.size // 2
+    return abs(fast_median(y[h:]) - fast_median(y[:h]))
+
+
+def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS):
+    """Sample indices where the level of a signal shifts, as an operator move or a
+    load change shifts it, and a cycle would not.
+
+    The edges of a square cycle whose half period exceeds the windows are shifts too,
+    by this test: :func:`~sktiction.cycles.analyze_cycles` takes shifts out only of a
+    record that shows no oscillation as it is.
+
+    Binary segmentation: the strongest shift of any stretch (the extreme of its
+    cumulative sum about its mean) is kept when
+
+    - the median of the window after it differs from that of the window before it by
+      more than ``ratio`` interquartile ranges of either window (windows of a
+      twentieth of the record, shorter at the stretch's ends, half a window off the
+      point): a cycle, whose windows span both its levels, is not cut;
+    - half of that change happens within half a window of the point, and neither
+      window's median moves by more than a quarter of it from its first half to its
+      second: a ramp, a drift or a random walk, which change as much over any
+      stretch of equal length, is not cut;
+
+    with windows and gap twice and four times as wide tried in turn (a transition
+    lagged by a slow response). The stretches on either side are then searched again,
+    up to ``max_shifts`` shifts.
+
+    Parameters
+    ----------
+    x : array-like of shape (n_samples,)
+        One finite signal.
+    ratio : float, default=3.0
+        Size a shift must exceed, in interquartile ranges of the windows beside it.
+    max_shifts : int, default=6
+        Most shifts returned.
+
+    Returns
+    -------
+    shifts : ndarray of int
+        Sorted indices: the new level starts at each.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.cycles._level_shifts import level_shifts
+    >>> t = np.arange(2000)
+    >>> x = np.sin(2 * np.pi * t / 80) + 20.0 * (t >= 1200) - 15.0 * (t >= 1500)
+    >>> level_shifts(x).tolist()
+    [1200, 1500]
+    >>> level_shifts(np.sin(2 * np.pi * t / 80) + 0.01 * t).tolist()  # a ramp is no shift
+    []
+    """
+    x = np.asarray(x, dtype=float)
+    w, g = _windows(x.size)
+    found, stretches, done = [], [(0, x.size)], set()
+    while len(found) < max_shifts:
+        best = None
+        for a, b in stretches:
+            if (a, b) in done:
+                continue
+            for scale in SCALES:  # wider windows and gaps pass lagged transitions
+                shift = _best_shift(x[a:b], scale * w, scale * g, ratio)
+                if shift is not None:
+                    break
+            if shift is None:
+                done.add((a, b))
+            elif best is None or shift[1] > best[1]:
+                best = (a + shift[0], shift[1], (a, b))
+        if best is None:
+            break
+        t, _, (a, b) = best
+        stretches.remove((a, b))
+        stretches += [(a, t), (t, b)]
+        found.append(t)
+    return np.array(sorted(found), dtype=int)
+
+
+def without_level_shifts(x):
+    """``x`` without its level shifts, and where they were.
+
+    Each stretch between :func:`level_shifts` is brought to a median of zero; within
+    the widest gap of a shift (a tenth of the record either side), values are
+    clipped to the 1-99 % range of the rest, so a lagged transition leaves no spike.
+
+    Returns
+    -------
+    y : ndarray of shape (n_samples,)
+        ``x`` itself when it has no shift.
+    shifts : ndarray of int
+        Sorted indices of the shifts.
+    """
+    x = np.asarray(x, dtype=float)
+    shifts = level_shifts(x)
+    if shifts.size == 0:
+        return x, shifts
+    edges = np.concatenate([[0], shifts, [x.size]])
+    out = x.copy()
+    for a, b in zip(edges[:-1], edges[1:]):
+        out[a:b] -= fast_median(x[a:b])
+    gap = SCALES[-1] * _windows(x.size)[1]
+    near = np.zeros(x.size, dtype=bool)
+    for t in shifts:
+        near[max(0, t - gap) : t + gap] = True
+    rest = out[~near] if np.count_nonzero(~near) >= 10 else out  # gaps cover a short record
+    lo, hi = fast_percentile(rest, [1, 99])
+    out[near] = np.clip(out[near], lo, hi)
+    return out, shifts
