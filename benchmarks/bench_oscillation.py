@@ -732,28 +732,45 @@ def run_speed(n_loops=12, repeats=7):
     print(f"analyze_cycles on its PV and OP: {1e3 * np.median(cycles):.1f} ms")
 
 
-def band_kurtosis(x, period):
-    """Excess kurtosis of ``x`` band-passed around ``period`` (the detector's weight
-    ``exp(-(ln(f / f0) / 0.5)^2)``, straight line removed): a sustained cycle of steady
-    amplitude gives -1.5 (a sine), Gaussian narrow-band noise 0."""
-    from scipy.stats import kurtosis
-
+def _band_passed(x, period):
+    """``x`` band-passed around ``period`` with the detector's weight
+    ``exp(-(ln(f / f0) / 0.5)^2)``, straight line removed."""
     t = np.arange(x.size)
     y = x - np.polyval(np.polyfit(t, x, 1), t)
     f = np.fft.rfftfreq(x.size)
     w = np.zeros_like(f)
     w[1:] = np.exp(-((np.log(f[1:] * period) / 0.5) ** 2))
-    return float(kurtosis(np.fft.irfft(np.fft.rfft(y) * w, x.size)))
+    return np.fft.irfft(np.fft.rfft(y) * w, x.size)
+
+
+def band_kurtosis(x, period):
+    """Excess kurtosis of ``x`` band-passed around ``period``: a sustained cycle of
+    steady amplitude gives -1.5 (a sine), Gaussian narrow-band noise 0."""
+    from scipy.stats import kurtosis
+
+    return float(kurtosis(_band_passed(x, period)))
+
+
+def band_regularity(x, period):
+    """Thornhill's r (mean over three standard deviations) of the intervals between
+    alternate zero crossings of ``x`` band-passed around ``period``: how regular the
+    timing of its cycles is once the filter has taken out what lies far from the
+    period. Band-passed noise has one too (the filter gives it a period)."""
+    y = _band_passed(x, period)
+    z = np.flatnonzero(np.signbit(y[1:]) != np.signbit(y[:-1]))
+    tp = z[2:] - z[:-2]
+    return float(tp.mean() / (3 * tp.std())) if tp.size > 2 and tp.std() > 0 else np.nan
 
 
 def run_gaussianity(n_per_class, seed=0):
     """Whether very irregular cycles differ from resonant noise in anything but the
-    spectrum: the band-passed signal's excess kurtosis at the true period (for noise, at
-    the peak of its spectrum smoothed over 9 bins), per class."""
-    print("excess kurtosis of the signal band-passed at its period: 5 / 25 / 50 / 75 / 95 %")
+    spectrum: the signal band-passed at the true period (for noise, at the peak of its
+    spectrum smoothed over 9 bins), per class: its excess kurtosis (amplitude) and
+    Thornhill's r of its zero crossings (timing); white noise band-passed at a period
+    drawn as the cycles' are is the reference for r."""
+    rows = {}
     for kind in ("irregular", "very_irregular", "noise_driven", "coloured_noise"):
         rng = np.random.default_rng([seed, STREAM[kind]])
-        got = {}
         for _ in range(n_per_class):
             info = {}
             x, _, periods = make_signal(kind, rng, info)
@@ -765,10 +782,21 @@ def run_gaussianity(n_per_class, seed=0):
                 periods = [x.size / (3 + np.argmax(power[3:]))]
             band = "" if kind != "coloured_noise" else (
                 " damping 0.35-0.45" if zeta < 0.45 else " damping 0.45-0.7")  # fmt: skip
-            got.setdefault(kind + band, []).append(band_kurtosis(x, periods[0]))
-        for name, k in got.items():
-            q = " / ".join(f"{v:.2f}" for v in np.percentile(k, [5, 25, 50, 75, 95]))
-            print(f"  {name} ({len(k)}): {q}")
+            k, r = band_kurtosis(x, periods[0]), band_regularity(x, periods[0])
+            rows.setdefault(kind + band, []).append((k, r))
+    rng = np.random.default_rng([seed, 1000])
+    for _ in range(n_per_class):
+        n = int(np.exp(rng.uniform(np.log(600), np.log(3000))))
+        x, p = rng.normal(size=n), rng.uniform(15, min(150.0, n / 6))
+        rows.setdefault("white noise", []).append((np.nan, band_regularity(x, p)))
+    for col, name in ((0, "excess kurtosis"), (1, "Thornhill's r of the zero crossings")):
+        print(f"{name} of the signal band-passed at its period: 5 / 25 / 50 / 75 / 95 %")
+        for kind, got in rows.items():
+            v = np.array([g[col] for g in got])
+            v = v[np.isfinite(v)]
+            if v.size:
+                q = " / ".join(f"{a:.2f}" for a in np.percentile(v, [5, 25, 50, 75, 95]))
+                print(f"  {kind} ({v.size}): {q}")
 
 
 def main():
@@ -786,7 +814,8 @@ def main():
     parser.add_argument(
         "--gaussianity",
         action="store_true",
-        help="band-passed kurtosis per class: very irregular cycles against resonant noise",
+        help="band-passed kurtosis and regularity per class: very irregular cycles against "
+        "resonant noise",
     )
     args = parser.parse_args()
     if args.speed:
