@@ -53,6 +53,19 @@ def _is_numeric(dtype):
         return is_numeric_dtype(dtype) and not is_bool_dtype(dtype)
 
 
+def _check_not_a_container(X, name):
+    """Refuse what a ``make_*`` or ``read_*`` function returns around the loops: numpy's
+    own message for a tuple (X, y) is about inhomogeneous shapes, and a Bunch reads as
+    a 0-d object array."""
+    if isinstance(X, dict) and "X" in X:
+        raise TypeError(f"{name} is a Bunch (a read_loops or load_* result): pass its loops, "
+                        f"{name}.X, and its .meta where a function takes them.")
+    if isinstance(X, tuple) and len(X) in (2, 3) and np.ndim(X[0]) == 3:
+        raise TypeError(f"{name} is a tuple of {len(X)} items whose first is a loop array: "
+                        "make_loops returns (X, y) or (X, y, meta); pass X "
+                        "(X, y = make_loops(...)).")
+
+
 def _check_numeric_columns(X, name):
     """Name the non-numeric columns of a DataFrame (sklearn's message does not)."""
     if hasattr(X, "dtypes") and hasattr(X, "columns"):
@@ -105,7 +118,8 @@ def check_loops(X, *, name="X"):
     Raises
     ------
     TypeError
-        If the values are not numeric, or X is sparse.
+        If the values are not numeric, X is sparse, or X is what a ``make_*`` or
+        ``read_*`` function returns around the loops (a tuple (X, y), a Bunch).
     ValueError
         If X is 1-D or more than 3-D, empty, has more than three channels, holds
         infinite or complex values, or is a 2-D table with columns named PV, OP or SP
@@ -118,6 +132,7 @@ def check_loops(X, *, name="X"):
     >>> check_loops(np.zeros((2, 5))).shape
     (2, 5, 3)
     """
+    _check_not_a_container(X, name)
     _check_numeric_columns(X, name)
     _check_not_one_loop_table(X, name)
     if np.ndim(X) != 3:
@@ -168,6 +183,7 @@ def validate_loops(estimator, X, *, reset):
     ``n_features_in_`` (the record length) and ``feature_names_in_``; 3-D loops
     may have any length, so they set neither.
     """
+    _check_not_a_container(X, "X")
     if np.ndim(X) == 3:
         if reset:
             for attr in ("n_features_in_", "feature_names_in_"):

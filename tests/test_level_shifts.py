@@ -129,3 +129,21 @@ def test_short_or_constant_records_have_no_shifts():
     assert level_shifts(np.arange(30.0)).size == 0
     assert level_shifts(np.zeros(500)).size == 0
     assert analyze_cycles(np.r_[np.zeros(300), np.ones(300)]).level_shifts.size == 0
+
+
+def test_the_example_finds_the_cycle_under_its_operator_moves(tmp_path):
+    path = next(
+        p / "examples" / "oscillation_detection.py"
+        for p in Path(__file__).resolve().parents
+        if (p / "examples" / "oscillation_detection.py").exists()
+    )
+    spec = importlib.util.spec_from_file_location("oscillation_detection", path)
+    example = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(example)
+    a = example.main(tmp_path / "moves.png")
+    # moves at samples 900 and 2,100 through a 10-sample lag; the cycle's period is 120
+    assert a.oscillating and abs(a.period - 120) < 3
+    assert np.all(np.abs(a.level_shifts - [900, 2100]) <= 15)
+    assert (tmp_path / "moves.png").stat().st_size > 10_000
+    table = example.plant_table()
+    assert table.shape[0] == 12 and table["oscillating"].dtype == bool

@@ -415,3 +415,20 @@ def test_a_loop_without_pv_gives_an_empty_stretch():
     assert info[["kept_start", "kept_stop"]].to_numpy().tolist() == [[0, 30], [0, 0]]
     assert info["usable"].tolist() == [True, False]
     assert np.isnan(Xr[1]).all()
+
+
+def test_what_a_make_or_read_function_returns_is_refused_with_what_to_pass():
+    from sklearn.utils import Bunch
+
+    from sktiction import OscillationFeatures
+
+    X = np.zeros((2, 60, 3))
+    for wrapped, says in (((X, np.zeros(2)), r"make_loops returns \(X, y\)"),
+                          ((X, np.zeros(2), pd.DataFrame()), "tuple of 3 items"),
+                          (Bunch(X=X, meta=pd.DataFrame()), r"pass its loops, X\.X")):  # fmt: skip
+        with pytest.raises(TypeError, match=says):
+            check_loops(wrapped)
+        with pytest.raises(TypeError, match=says):
+            OscillationFeatures().fit(wrapped)
+    # a tuple that is the loops themselves (nested sequences) is read as before
+    assert check_loops(tuple(tuple(tuple(r) for r in loop) for loop in X)).shape == (2, 60, 3)
