@@ -10,6 +10,7 @@ from sklearn.pipeline import FeatureUnion, Pipeline
 from sktiction import AreaRatio, LoopDescriptors, StictionModelFit, TemplateDistances
 from sktiction._cleaning import GAP_COLUMNS
 from sktiction.classifiers import AreaRatioClassifier, ShapeLibraryClassifier
+from sktiction.cycles import analyze_cycles
 from sktiction.datasets import make_loops
 from sktiction.features.hysteresis import valve_band
 from sktiction.reports import scan as scan_module
@@ -64,6 +65,13 @@ def reference_scan(X, loop_types, learned):
     size[~sticky] = np.nan
     band = [valve_band(x[:n, 0], x[:n, 1]) if s else np.nan
             for x, n, s in zip(loops, loop_lengths(loops), sticky)]  # fmt: skip
+    index, period = np.full(len(loops), np.nan), np.full(len(loops), np.nan)
+    for i in np.flatnonzero(ok):  # OP and PV read on their own, the larger index kept
+        n = loop_lengths(loops)[i]
+        best = max((analyze_cycles(loops[i, :n, c]) for c in (1, 0)),
+                   key=lambda a: a.oscillation_index)  # fmt: skip
+        index[i] = best.oscillation_index
+        period[i] = best.periods[0] if best.oscillating else np.nan
     return pd.DataFrame(
         {
             "status": status,
@@ -76,6 +84,9 @@ def reference_scan(X, loop_types, learned):
             "shape_loop_type": shape["loop_type"].to_numpy(),
             "shape_reason": shape["reason"].to_numpy(dtype=object),
             "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
+            "oscillating": index > 0.5,
+            "oscillation_index": index,
+            "oscillation_period": period,
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": np.asarray(band, dtype=float),

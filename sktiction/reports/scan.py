@@ -41,6 +41,9 @@ REPORT_COLUMNS = [
     "shape_loop_type",
     "shape_reason",
     "n_cycles",
+    "oscillating",
+    "oscillation_index",
+    "oscillation_period",
     "stiction_size_mean",
     "stiction_size_max",
     "stiction_band_fit",
@@ -228,6 +231,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
     size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
     size[~sticky] = np.nan
     band = _fitted_bands(analyses, sticky)
+    index, period = _oscillations(analyses, status == STATUS_OK)
     return pd.DataFrame(
         {
             "status": status,
@@ -241,6 +245,9 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
             "shape_loop_type": shape["loop_type"].to_numpy(),
             "shape_reason": shape["reason"].to_numpy(dtype=object),
             "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
+            "oscillating": index > OSCILLATION_THRESHOLD,
+            "oscillation_index": index,
+            "oscillation_period": period,
             "stiction_size_mean": size[:, 0],
             "stiction_size_max": size[:, 1],
             "stiction_band_fit": band,
@@ -250,6 +257,25 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
             "reason": reason,
         }
     )
+
+
+#: Index above which :func:`~sktiction.cycles.analyze_cycles` calls a signal oscillating.
+OSCILLATION_THRESHOLD = 0.5
+
+
+def _oscillations(analyses, ok):
+    """Oscillation index of each loop (the larger of OP's and PV's,
+    :func:`~sktiction.cycles.analyze_cycles` as every classifier reads them) and the
+    strongest oscillating component's period in samples (NaN where neither
+    oscillates, and both NaN for loops that cannot be analysed)."""
+    index, period = np.full(len(analyses), np.nan), np.full(len(analyses), np.nan)
+    for i in np.flatnonzero(ok):
+        best = max((analyses[i].cycles(s) for s in ("op", "pv")),
+                   key=lambda a: a.oscillation_index)  # fmt: skip
+        index[i] = best.oscillation_index
+        if best.oscillating:
+            period[i] = best.periods[0]
+    return index, period
 
 
 def _fitted_bands(analyses, sticky):
@@ -452,7 +478,12 @@ def scan_loops(
     (:func:`~sktiction.classifiers.applicability.assess_applicability`) rejects, with
     its reason (and then no ``stiction_probability``).
     ``shape_reason`` is the shape library's own (e.g. ``not_oscillating``: no size from
-    it). ``startup_rows`` is the number of rows (as read) of a start-up transient dropped
+    it). ``oscillating``, ``oscillation_index`` and ``oscillation_period`` (samples) say
+    whether OP or PV oscillates, as every classifier reads them
+    (:func:`~sktiction.cycles.analyze_cycles`: the larger of the two indices, 0.5 the
+    threshold, and the period of the strongest oscillating component), whatever the
+    cause: a plant-wide oscillation survey comes with the scan.
+    ``startup_rows`` is the number of rows (as read) of a start-up transient dropped
     from the start (0: none; see :func:`~sktiction.clean_loops`), ``op_shift`` the number of rows
     OP was moved to line up with PV before anything else (0: as recorded; see
     :func:`~sktiction._cleaning.align_op`).
