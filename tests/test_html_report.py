@@ -156,3 +156,18 @@ def test_valves_with_several_records_are_summed_up_on_the_page(tmp_path):
             "FIC1 (1 of 2)") in text
     text = write_html_report(report.iloc[1:], path=tmp_path / "s.html").read_text()
     assert "valves;" not in text
+
+
+def test_a_scans_oscillation_columns_fill_the_table_for_every_loop(report_and_loops, tmp_path):
+    report, X = report_and_loops
+    report = report.assign(oscillating=[True, False, True, np.nan, np.nan],
+                           oscillation_period=[50.0, np.nan, 80.0, np.nan, np.nan],
+                           ts=[2.0, 2.0, 0.5, 1.0, 1.0])  # fmt: skip
+    path = write_html_report(report, X, path=tmp_path / "r.html", max_figures=0)
+    text = path.read_text(encoding="utf-8")
+    # the period cell follows the oscillation cell: samples times the sample time, for
+    # every loop although no figure is drawn
+    cells = re.findall(r'<td class="oscillating">(\w*)</td><td class="num"'
+                       r'(?: data-value="([^"]+)")?>', text)  # fmt: skip
+    assert [c[0] for c in cells] == ["yes", "no", "yes", "", ""]
+    assert [float(c[1]) if c[1] else None for c in cells] == [100.0, None, 40.0, None, None]

@@ -25,6 +25,7 @@ TABLE_COLUMNS = (
     ("stiction_probability", "p(stiction)", "prob"),
     ("stiction_size_mean", "stiction size, % travel", "num1"),
     ("stiction_band_fit", "fitted dead band, % travel", "num1"),
+    ("oscillating", "oscillates", "text"),
     ("period", "period", "num1"),
     ("area_ratio", "area ratio", "num2"),
     ("status", "status", "text"),
@@ -227,8 +228,10 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
     A sortable table of loops (click a header to sort, or open the file with
     ``#sort=NAME`` to sort by the report column ``NAME``, ``#sort=-NAME`` for
     descending, e.g. ``#sort=-stiction_probability``: verdict, probability of
-    stiction, stiction size in % of valve travel, the fitted dead band, oscillation
-    period, area ratio, status and reason), then for each loop a figure: the trend of PV, SP and OP
+    stiction, stiction size in % of valve travel, the fitted dead band, whether the loop
+    oscillates and its period (a scan's ``oscillation_period`` times the sample time, else
+    the drawn cycles'), area ratio, status and reason), then for each loop a figure: the
+    trend of PV, SP and OP
     with the detected cycles shaded and the matched OP/PV templates named on each
     cycle, PV against OP, and the area ratio R of each cycle. Figures are base64
     PNG and the sorting script is inline: the file needs no network.
@@ -302,7 +305,13 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
             figures[i], periods[i] = png, period
     table = report.copy()
     if "period" not in table:
+        if "oscillation_period" in table:  # a scan's: every loop, drawn or not
+            scanned = table["oscillation_period"].to_numpy(dtype=float) * ts
+            periods = np.where(np.isfinite(scanned), scanned, periods)
         table["period"] = periods
+    if "oscillating" in table:
+        osc = table["oscillating"]
+        table["oscillating"] = np.where(osc.isna(), "", np.where(osc.eq(True), "yes", "no"))
     if "status" not in table and "input_status" in table:
         table["status"] = table["input_status"]
 
