@@ -303,6 +303,9 @@ def test_top_keeps_the_most_likely_sticky_rows_and_every_unread_file():
         "verdicts of 10 loops: 3 stiction, 1 no_stiction, 6 no_verdict "
         "(3 out_of_domain, 2 pv_op_swapped, 1 ValueError)"
     )
+    # a scan's oscillation column: how many loops cycle, and how many of those are sticky
+    report["oscillating"] = [True, True, False, np.nan, True]
+    assert cli._verdict_counts(report).endswith("; 3 oscillate, 2 of them called sticky")
 
 
 def test_top_option_on_the_command_line(quick, folder, tmp_path, capsys):
