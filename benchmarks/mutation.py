@@ -101,6 +101,10 @@ TARGETED = {
     "sktiction/features/templates.py": ["tests/test_templates.py"],
     "sktiction/features/_loops.py": ["tests/test_features_loops.py", "tests/test_templates.py"],
     "sktiction/cycles/_oscillation.py": ["tests/test_oscillation.py", "tests/test_cycles.py"],
+    "sktiction/cycles/_level_shifts.py": [
+        "tests/test_level_shifts.py",
+        "tests/test_level_shifts_known_answers.py",
+    ],
     "sktiction/features/oscillation.py": ["tests/test_oscillation.py"],
     "sktiction/features/area_ratio.py": [
         "tests/test_area_ratio.py",

@@ -49,11 +49,12 @@ def _best_shift(s, w, g, ratio):
     change = fast_median(after) - fast_median(before)
     spread = max(_iqr(before), _iqr(after))
     near = fast_median(s[k : k + g]) - fast_median(s[k - g : k])
-    if not (abs(change) > ratio * spread and near * change > 0 and abs(near) >= 0.5 * abs(change)):
+    same_way = (near > 0) == (change > 0)  # signs, not a product: no underflow at 1e-200
+    if not (abs(change) > ratio * spread and same_way and abs(near) >= 0.5 * abs(change)):
         return None
     if max(_drift(before), _drift(after)) > 0.25 * abs(change):
         return None
-    return k, abs(change) / max(spread, 1e-300)
+    return k, abs(change) / max(spread, 1e-12 * abs(change))  # a flat step: 1e12, not inf
 
 
 def _drift(y):

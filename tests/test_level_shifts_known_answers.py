@@ -1,0 +1,191 @@
+"""Known answers of the level-shift tests, each derived by hand from the definition in
+``sktiction/cycles/_level_shifts.py``: the windows, the boundaries of the three tests
+(ratio, half the change near the point, a quarter of it as drift), the shortest stretch,
+``max_shifts`` and the clipping of ``without_level_shifts``."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+from sktiction.cycles._level_shifts import (
+    _best_shift,
+    _drift,
+    _iqr,
+    _windows,
+    level_shifts,
+    without_level_shifts,
+)
+
+
+def _twenty(before, left, right, after):
+    """20 samples read with w=10, g=5: the shortest stretch, 2 * (5 + 5) (``short`` is 5),
+    whose only candidate point is 10, so before = s[0:5], the gap s[5:15] (``left`` and
+    ``right`` of the point) and after = s[15:20]."""
+    return np.array([before, left, right, after], dtype=float).ravel()
+
+
+def test_windows_are_a_twentieth_of_the_record_at_least_ten_and_the_gap_half_that():
+    assert _windows(2000) == (100, 50)
+    assert _windows(240) == (12, 6)
+    assert _windows(219) == (10, 5)  # 219 // 20 = 10
+    assert _windows(100) == (10, 5)  # a twentieth is 5: the floor of 10 holds
+    assert _windows(0) == (10, 5)
+
+
+def test_iqr_and_drift_of_known_samples():
+    assert _iqr(np.arange(101.0)) == 50.0  # 75 - 25
+    assert _iqr(np.array([0.0, 0, 1, 2, 2])) == 2.0
+    # halves of 5 samples: the first 2 (median 0) and the last 3 (median 2)
+    assert _drift(np.array([0.0, 0, 0, 2, 2])) == 2.0
+    assert _drift(np.arange(10.0)) == 5.0  # medians 7 and 2
+    assert _drift(np.full(8, 3.0)) == 0.0
+
+
+def test_the_shortest_stretch_is_twice_the_short_window_and_the_gap():
+    # w=10, g=5: short = max(10 // 4, 5) = 5, so 20 samples and no fewer
+    s = _twenty([0] * 5, [0] * 5, [1] * 5, [1] * 5)
+    k, r = _best_shift(s, 10, 5, 3.0)
+    assert k == 10 and r == pytest.approx(1e12)  # no spread: the floor, 1e-12 of the change
+    assert _best_shift(s[1:], 10, 5, 3.0) is None
+    assert _best_shift(s[:-1], 10, 5, 3.0) is None
+    # w=40, g=20: short = 40 // 4 = 10, so 60 samples; the only point is then 30
+    s = np.r_[np.zeros(30), np.ones(30)]
+    assert _best_shift(s, 40, 20, 3.0)[0] == 30
+    assert _best_shift(s[:59], 40, 20, 3.0) is None
+    assert _best_shift(s[1:], 40, 20, 3.0) is None
+
+
+def test_the_window_before_a_point_near_the_start_begins_at_the_first_sample():
+    # before = s[0:5] = [0, 0, 1, 2, 2]: median 1, IQR 2 (25th: 0, 75th: 2); after 20:
+    # change 19, ratio 9.5 (without s[0]: median 1.5, IQR 1.25, ratio 14.8)
+    s = _twenty([0, 0, 1, 2, 2], [1] * 5, [20] * 5, [20] * 5)
+    assert _best_shift(s, 10, 5, 3.0) == (10, 9.5)
+
+
+def test_the_change_must_exceed_ratio_times_the_spread():
+    # before [0, 2, 1, 0, 2]: median 1, IQR 2, no drift (both halves' median is 1)
+    at = _twenty([0, 2, 1, 0, 2], [1] * 5, [7] * 5, [7] * 5)  # change 6 = 3 x 2
+    assert _best_shift(at, 10, 5, 3.0) is None
+    assert _best_shift(at, 10, 5, 2.5) == (10, 3.0)
+    above = _twenty([0, 2, 1, 0, 2], [1] * 5, [7.5] * 5, [7.5] * 5)
+    assert _best_shift(above, 10, 5, 3.0) == (10, 3.25)
+    # the ratio returned is change over spread, whatever the units
+    assert _best_shift(0.25 * above, 10, 5, 3.0) == (10, 3.25)
+    assert _best_shift(-4.0 * above, 10, 5, 3.0) == (10, 3.25)
+
+
+def test_half_the_change_must_happen_within_the_gap_and_in_its_direction():
+    # change 8; near = median(right) - median(left)
+    exactly_half = _twenty([0] * 5, [0, 0, 2, 4, 4], [4, 4, 6, 8, 8], [8] * 5)  # 6 - 2
+    k, r = _best_shift(exactly_half, 10, 5, 3.0)
+    assert k == 10 and r == pytest.approx(1e12)
+    less = _twenty([0] * 5, [0, 1, 2, 3, 4], [4, 5, 5, 6, 8], [8] * 5)  # 5 - 2 = 3 < 4
+    assert _best_shift(less, 10, 5, 3.0) is None
+    against = _twenty([0] * 5, [9] * 5, [-1] * 5, [8] * 5)  # near -10: a dip, no step
+    assert _best_shift(against, 10, 5, 3.0) is None
+    down = _twenty([8] * 5, [8] * 5, [0] * 5, [0] * 5)
+    assert _best_shift(down, 10, 5, 3.0)[0] == 10
+
+
+def test_a_window_may_drift_by_a_quarter_of_the_change_and_no_more():
+    # before [0, 0, 0, 2, 2]: median 0, IQR 2, drift 2 (halves' medians 0 and 2)
+    at = _twenty([0, 0, 0, 2, 2], [2] * 5, [8] * 5, [8] * 5)  # change 8: drift = 8 / 4
+    assert _best_shift(at, 10, 5, 3.0) == (10, 4.0)
+    beyond = _twenty([0, 0, 0, 2, 2], [2] * 5, [7] * 5, [7] * 5)  # 7 > 6, but 2 > 7 / 4
+    assert _best_shift(beyond, 10, 5, 3.0) is None
+    # the window after, mirrored: [2, 2, 0, 0, 0] has halves' medians 2 and 0
+    assert _best_shift(at[::-1].copy(), 10, 5, 3.0) == (10, 4.0)
+    assert _best_shift(beyond[::-1].copy(), 10, 5, 3.0) is None
+
+
+def test_the_shortest_record_with_a_shift_and_what_is_returned():
+    x = np.r_[np.zeros(10), np.ones(10)]
+    assert level_shifts(x).tolist() == [10]
+    assert level_shifts(x[1:]).size == 0  # 19 samples: shorter than the shortest stretch
+    # an on/off record (booleans) or integers are read as floats
+    assert level_shifts(x.astype(bool)).tolist() == [10]
+    assert level_shifts(3 * x.astype(int)).tolist() == [10]
+    none = level_shifts(np.zeros(500))
+    assert none.size == 0 and none.dtype.kind == "i"  # int even when empty
+    # the widest gap (4 x 5 samples either side) covers all 20: clipped to the whole
+    y, shifts = without_level_shifts(x)
+    assert shifts.tolist() == [10] and y.tolist() == [0.0] * 20
+
+
+def test_max_shifts_keeps_the_strongest_of_the_stretches_left():
+    # steps +1 at 500, +20 at 1000, +3 at 1500: the cumulative sum's extreme is 1000;
+    # of the stretches beside it, 1000-2000 holds the larger shift (3 against 1 in the
+    # same noise)
+    rng = np.random.default_rng(11)
+    t = np.arange(2000)
+    x = 1.0 * (t >= 500) + 20.0 * (t >= 1000) + 3.0 * (t >= 1500) + rng.normal(0, 0.1, 2000)
+    assert level_shifts(x, max_shifts=1).tolist() == [1000]
+    assert level_shifts(x, max_shifts=2).tolist() == [1000, 1500]
+    assert level_shifts(x).tolist() == [500, 1000, 1500]
+    # 8 steps of 10 and 20 in turn: no level sits at the mean of a stretch of them,
+    # where the cumulative sum would be flat and its extreme anywhere on the level
+    stairs = np.repeat(np.r_[0, np.cumsum([10.0, 20] * 4)], 300) + rng.normal(0, 0.1, 2700)
+    found = level_shifts(stairs)
+    assert found.size == 6 and set(found.tolist()) <= set(range(300, 2700, 300))
+
+
+def test_shifts_do_not_depend_on_scale_offset_or_sign():
+    rng = np.random.default_rng(8)
+    for _ in range(6):
+        n = int(rng.uniform(800, 3000))
+        t = np.arange(n)
+        x = np.sin(2 * np.pi * t / rng.uniform(20, 200)) + rng.normal(0, 0.2, n)
+        for where in np.sort(rng.integers(n // 10, n - n // 10, 2)):
+            x[where:] += rng.uniform(5, 30) * rng.choice([-1, 1])
+        found = level_shifts(x)
+        assert found.size > 0
+        for scale, offset in ((1e-3, 5.0), (1e3, -7.0), (-1.0, 0.0), (0.25, 0.0)):
+            np.testing.assert_array_equal(level_shifts(scale * x + offset), found)
+
+
+def test_without_level_shifts_clips_exactly_the_widest_gaps_to_the_rest():
+    # 400 samples: w=20, g=10, the widest gap 4 x 10 = 40 samples either side
+    rng = np.random.default_rng(4)
+    t = np.arange(400)
+    x = rng.normal(0, 1, 400) + 50.0 * (t >= 30) - 50.0 * (t >= 250)
+    x[[0, 69, 70]] += 8.0  # spikes: at the start and at the last sample of the gap (near
+    # 30), and just past it; and one down, in the gap of 250
+    x[215] -= 8.0
+    y, shifts = without_level_shifts(x)
+    assert shifts.tolist() == [30, 250]
+    centred = np.r_[x[:30] - np.median(x[:30]), x[30:250] - np.median(x[30:250]),
+                    x[250:] - np.median(x[250:])]  # fmt: skip
+    near = np.zeros(400, dtype=bool)
+    near[0:70] = near[210:290] = True  # 30 - 40 is cut at the start
+    lo, hi = np.percentile(centred[~near], [1, 99])
+    np.testing.assert_array_equal(y[~near], centred[~near])
+    np.testing.assert_array_equal(y[near], np.clip(centred[near], lo, hi))
+    assert y[0] == hi and y[69] == hi and y[70] == centred[70] > hi and y[215] == lo
+
+
+def test_the_rest_is_read_from_ten_samples_outside_the_gaps():
+    # 50 samples, a shift at 20 (w=10, g=5, gaps of 20): 0-40 is near it, 40-50 (ten
+    # samples, +-1 about the stretch's median 30) is the rest; 20-40 swings +-3 and is
+    # clipped to +-1
+    sign = (-1.0) ** np.arange(30)
+    x = np.r_[np.zeros(20), 30 + 3 * sign[:20], 30 + sign[20:]]
+    y, shifts = without_level_shifts(x)
+    assert shifts.tolist() == [20]
+    np.testing.assert_array_equal(y, np.r_[np.zeros(20), sign])
+    # integers are read as floats
+    yi, shifts = without_level_shifts(x.astype(int))
+    assert shifts.tolist() == [20] and yi.dtype == float
+    np.testing.assert_array_equal(yi, y)
+
+
+def test_a_flat_step_of_any_size_or_scale_is_found_without_overflow_or_underflow():
+    # no spread: the ratio is capped at 1e12 (an inf would warn); signs are compared,
+    # not multiplied, so a record scaled by 1e-200 keeps its shift
+    rng = np.random.default_rng(0)
+    noisy = np.r_[np.zeros(300), np.full(300, 10.0)] + rng.normal(0, 1, 600)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert level_shifts(np.r_[np.zeros(100), np.full(100, 2e8)]).tolist() == [100]
+        for scale in (1.0, 1e-160, 1e-200):
+            assert level_shifts(noisy * scale).tolist() == [300]
