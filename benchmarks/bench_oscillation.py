@@ -25,6 +25,7 @@ Run: python benchmarks/bench_oscillation.py [--n 200] [--measured] [--figures DI
      python benchmarks/bench_oscillation.py --compare --n 100  (other method families)
      NUMBA_NUM_THREADS=1 python benchmarks/bench_oscillation.py --speed
      python benchmarks/bench_oscillation.py --gaussianity --n 300  (very irregular vs noise)
+     python benchmarks/bench_oscillation.py --level-steps --n 300  (cycles under level shifts)
 """
 
 from __future__ import annotations
@@ -190,10 +191,14 @@ def make_signal(kind, rng, info=None):
         p = rng.uniform(15, top)
         x = _wandering(rng, n, p, 0.08, 0.15, shape) + _noise(rng, n, rng.uniform(0.05, 0.4))
         level = np.zeros(n)
-        for t in rng.integers(int(0.03 * n), int(0.97 * n), int(rng.integers(1, 4))):
+        where = rng.integers(int(0.03 * n), int(0.97 * n), int(rng.integers(1, 4)))
+        for t in where:
             level[t:] += rng.uniform(3, 30) * rng.choice([-1, 1])
-        if rng.random() < 0.5:  # as a first-order response would record them
-            level = np.asarray(_lag(level, rng.uniform(2, 30)))
+        lag = rng.uniform(2, 30) if rng.random() < 0.5 else 0.0
+        if lag:  # as a first-order response would record them
+            level = np.asarray(_lag(level, lag))
+        if info is not None:
+            info.update(steps=where.size, lag=lag / n, edge=min(where.min(), n - where.max()) / n)
         return x + level, 1, [p]
     # ---- non-oscillating counterparts
     if kind == "coloured_noise":
@@ -799,6 +804,49 @@ def run_gaussianity(n_per_class, seed=0):
                 print(f"  {kind} ({v.size}): {q}")
 
 
+def run_level_steps(n_per_class, seed=0, per_cell=40):
+    """Cycles under level shifts, read as they are and with the second reading: a grid
+    of one step (size in cycle amplitudes x period), then the *level_steps* class by
+    number of steps, lag and distance of the nearest step from the record's ends."""
+    from sktiction.cycles._analysis import _read_cycles
+
+    def as_is(x):
+        return _read_cycles(x, 3, 3.0, 0.5, 0.0, 0.5, None).oscillating
+
+    print(f"one step at 20-80 % of 1,000-3,000 samples, {per_cell} signals per cell: "
+          "found as is / with the second reading")  # fmt: skip
+    rng = np.random.default_rng([seed, 2000])
+    for lo, hi in ((2, 5), (5, 10), (10, 20), (20, 50)):
+        cells = []
+        for p_lo, p_hi in ((15, 40), (40, 100), (100, 250)):
+            got = []
+            for _ in range(per_cell):
+                n = int(rng.uniform(1000, 3000))
+                x = _wandering(rng, n, rng.uniform(p_lo, p_hi), 0.08, 0.15) + _noise(rng, n, 0.2)
+                x[int(rng.uniform(0.2, 0.8) * n) :] += rng.uniform(lo, hi) * rng.choice([-1, 1])
+                got.append((as_is(x), analyze_cycles(x).oscillating))
+            a, b = np.mean(got, axis=0)
+            cells.append(f"period {p_lo}-{p_hi}: {a:.2f} / {b:.2f}")
+        print(f"  step {lo}-{hi} amplitudes: " + "; ".join(cells))
+    rng = np.random.default_rng([seed, STREAM["level_steps"]])
+    rows = []
+    for _ in range(n_per_class):
+        info = {}
+        x = make_signal("level_steps", rng, info)[0]
+        rows.append((info["steps"], info["lag"], info["edge"], analyze_cycles(x).oscillating))
+    rows = np.array(rows, dtype=float)
+    print(f"level_steps ({n_per_class} signals): found {rows[:, 3].mean():.2f}")
+    groups = {
+        "1 / 2 / 3 steps": [rows[:, 0] == k for k in (1, 2, 3)],
+        "no lag / lag under 1/40 of the record / over it": [
+            rows[:, 1] == 0, (rows[:, 1] > 0) & (rows[:, 1] < 1 / 40), rows[:, 1] >= 1 / 40],
+        "nearest step within 7.5 % of an end / further": [rows[:, 2] < 0.075, rows[:, 2] >= 0.075],
+    }  # fmt: skip
+    for name, masks in groups.items():
+        parts = [f"{rows[m, 3].mean():.2f} ({int(m.sum())})" for m in masks]
+        print(f"  {name}: " + " / ".join(parts))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=200, help="signals per class")
@@ -812,6 +860,11 @@ def main():
     )
     parser.add_argument("--speed", action="store_true", help="CPU time of all features")
     parser.add_argument(
+        "--level-steps",
+        action="store_true",
+        help="cycles under level shifts: found as read and with the second reading",
+    )
+    parser.add_argument(
         "--gaussianity",
         action="store_true",
         help="band-passed kurtosis and regularity per class: very irregular cycles against "
@@ -820,6 +873,9 @@ def main():
     args = parser.parse_args()
     if args.speed:
         run_speed()
+        return
+    if args.level_steps:
+        run_level_steps(args.n, args.seed)
         return
     if args.gaussianity:
         run_gaussianity(args.n, args.seed)

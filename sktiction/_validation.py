@@ -60,9 +60,9 @@ def _check_not_a_container(X, name):
     if isinstance(X, dict) and "X" in X:
         raise TypeError(f"{name} is a Bunch (a read_loops or load_* result): pass its loops, "
                         f"{name}.X, and its .meta where a function takes them.")
-    if isinstance(X, tuple) and len(X) in (2, 3) and np.ndim(X[0]) == 3:
-        raise TypeError(f"{name} is a tuple of {len(X)} items whose first is a loop array: "
-                        "make_loops returns (X, y) or (X, y, meta); pass X "
+    if isinstance(X, (tuple, list)) and len(X) in (2, 3) and getattr(X[0], "ndim", 0) == 3:
+        raise TypeError(f"{name} is a {type(X).__name__} of {len(X)} items whose first is a "
+                        "loop array: make_loops returns (X, y) or (X, y, meta); pass X "
                         "(X, y = make_loops(...)).")
 
 

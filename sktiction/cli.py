@@ -299,7 +299,7 @@ def _verdict_counts(report):
         top = why.str.split(r"[;:]", regex=True).str[0].str.strip().value_counts().head(3)
         line += " (" + ", ".join(f"{n} {reason}" for reason, n in top.items()) + ")"
     if "oscillating" in loops:  # whatever the cause: the survey an engineer starts from
-        osc = loops["oscillating"].eq(True)
+        osc = loops["oscillating"].eq(True).fillna(False).astype(bool)
         sticky = osc & loops["verdict"].eq("stiction")
         line += f"; {int(osc.sum())} oscillate, {int(sticky.sum())} of them called sticky"
     return line

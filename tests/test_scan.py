@@ -66,12 +66,16 @@ def reference_scan(X, loop_types, learned):
     band = [valve_band(x[:n, 0], x[:n, 1]) if s else np.nan
             for x, n, s in zip(loops, loop_lengths(loops), sticky)]  # fmt: skip
     index, period = np.full(len(loops), np.nan), np.full(len(loops), np.nan)
-    for i in np.flatnonzero(ok):  # OP and PV read on their own, the larger index kept
-        n = loop_lengths(loops)[i]
-        best = max((analyze_cycles(loops[i, :n, c]) for c in (1, 0)),
-                   key=lambda a: a.oscillation_index)  # fmt: skip
-        index[i] = best.oscillation_index
-        period[i] = best.periods[0] if best.oscillating else np.nan
+    oscillating = pd.array([pd.NA] * len(loops), dtype="boolean")
+    for i, n in enumerate(loop_lengths(loops)):  # OP and PV on their own, the larger index
+        if status[i] in ("empty", "too_short", "nan_gap"):
+            continue
+        signals = [loops[i, :n, c] for c in (1, 0)]
+        read = [analyze_cycles(x) for x in signals if np.isfinite(x).all() and np.ptp(x) > 0]
+        if read:
+            best = max(read, key=lambda a: a.oscillation_index)
+            oscillating[i], index[i] = best.oscillating, best.oscillation_index
+            period[i] = best.periods[0] if best.oscillating else np.nan
     return pd.DataFrame(
         {
             "status": status,
@@ -84,7 +88,7 @@ def reference_scan(X, loop_types, learned):
             "shape_loop_type": shape["loop_type"].to_numpy(),
             "shape_reason": shape["reason"].to_numpy(dtype=object),
             "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
-            "oscillating": index > 0.5,
+            "oscillating": oscillating,
             "oscillation_index": index,
             "oscillation_period": period,
             "stiction_size_mean": size[:, 0],

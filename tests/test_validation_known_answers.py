@@ -425,6 +425,7 @@ def test_what_a_make_or_read_function_returns_is_refused_with_what_to_pass():
     X = np.zeros((2, 60, 3))
     for wrapped, says in (((X, np.zeros(2)), r"make_loops returns \(X, y\)"),
                           ((X, np.zeros(2), pd.DataFrame()), "tuple of 3 items"),
+                          ([X, np.zeros(2)], "list of 2 items"),
                           (Bunch(X=X, meta=pd.DataFrame()), r"pass its loops, X\.X")):  # fmt: skip
         with pytest.raises(TypeError, match=says):
             check_loops(wrapped)

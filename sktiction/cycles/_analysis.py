@@ -8,7 +8,7 @@ import numpy as np
 from numba import njit
 from scipy.fft import irfft
 
-from ._level_shifts import without_level_shifts
+from ._level_shifts import read_without_shifts
 from ._oscillation import MAX_CONFIRMATION, SCORE_SCALE, _components, _power_spectrum
 from ._signal import (
     dominant_period,
@@ -106,7 +106,9 @@ class CycleAnalysis:
                 f"oscillation_index={self.oscillation_index:.3f}, "
                 f"periods={np.round(self.periods, 1).tolist()}, n_cycles={len(self.cycles)}, "
                 f"period={self.period:.1f}, regularity={self.regularity:.2f}, "
-                f"n_samples={self.centred.size})")  # fmt: skip
+                f"n_samples={self.centred.size}"
+                + (f", level_shifts={self.level_shifts.tolist()}" if self.level_shifts.size
+                   else "") + ")")  # fmt: skip
 
 
 def _regular_runs(periods, tolerance):
@@ -284,7 +286,7 @@ def analyze_cycles(
     still found), and the decision is read again.
 
     Level shifts: when the record as it is shows no oscillation but holds level shifts
-    (operator moves, load changes; :func:`~sktiction.cycles._level_shifts.level_shifts`), whose
+    (operator moves, load changes; see ``sktiction.cycles._level_shifts``), whose
     spectrum can bury a cycle many times smaller, it is read again with the shifts
     taken out, and that reading is kept if it finds an oscillation
     (``level_shifts`` lists them). A record that oscillates as it is keeps its reading.
@@ -338,17 +340,13 @@ def _analyze_cycles(x, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
     gives NaN features rather than an error)."""
     x = np.asarray(x, dtype=float)
     args = (min_cycles, hysteresis, tolerance, min_acf, threshold)
-    analysis = _read_cycles(x, *args, dominant)
-    if analysis.oscillating or x.size < 20 or not np.ptp(x) > 0:
-        return analysis
-    flat, shifts = without_level_shifts(x)
-    if shifts.size == 0:
-        return analysis
-    second = _read_cycles(flat, *args, None)
-    if not second.oscillating:
-        return analysis
-    second.level_shifts = shifts
-    return second
+    analysis, shifts = read_without_shifts(
+        x,  # the caller's dominant period is that of the record as it is
+        lambda y: _read_cycles(y, *args, dominant if y is x else None),
+        lambda a: a.oscillating,
+    )
+    analysis.level_shifts = shifts
+    return analysis
 
 
 def _read_cycles(x, min_cycles, hysteresis, tolerance, min_acf, threshold, dominant):

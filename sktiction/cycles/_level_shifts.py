@@ -3,9 +3,9 @@
 A step of size S in a record of n samples puts about (S n / (2 pi k))**2 of power
 into bin k of the periodogram, against (A n / 2)**2 for a cycle of amplitude A
 there, and into the band around the cycle that its ACF is read from: a
-production-rate change 5-50 times a cycle's amplitude hides cycles that the eye sees
-at once (``benchmarks/bench_oscillation.py``, class ``level_steps``). Where a record
-that shows no oscillation holds such shifts, it is read again without them.
+production-rate change 10-50 times a cycle's amplitude hides most cycles that the eye
+sees at once (``benchmarks/bench_oscillation.py --level-steps``). Where a record that
+shows no oscillation holds such shifts, it is read again without them.
 """
 
 from __future__ import annotations
@@ -167,3 +167,28 @@ def without_level_shifts(x):
     lo, hi = fast_percentile(rest, [1, 99])
     out[near] = np.clip(out[near], lo, hi)
     return out, shifts
+
+
+def read_without_shifts(x, read, oscillates):
+    """``read(x)``, or, when that reading does not oscillate and ``x`` holds level
+    shifts, ``read`` of ``x`` without them if that one oscillates: the second reading of
+    :func:`~sktiction.cycles.analyze_cycles` and
+    :func:`~sktiction.cycles.detect_oscillations`.
+
+    Returns
+    -------
+    reading : object
+        What ``read`` returned for the reading kept.
+    shifts : ndarray of int
+        The shifts taken out (empty when the record was read as it is).
+    """
+    first = read(x)
+    if oscillates(first) or not np.isfinite(x).all():  # a gap inside a loop: NaN features
+        return first, np.empty(0, dtype=int)
+    flat, shifts = without_level_shifts(x)
+    if shifts.size:
+        second = read(flat)
+        if oscillates(second):
+            return second, shifts
+    return first, np.empty(0, dtype=int)
+

@@ -8,7 +8,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.fft import irfft, next_fast_len, rfft
 
-from ._level_shifts import without_level_shifts
+from ._level_shifts import read_without_shifts
 from ._signal import one_signal
 
 
@@ -179,7 +179,7 @@ def detect_oscillations(
        of the spectrum. Thornhill's r is reported, not used to decide: the band
        filter makes the ACF crossings of noise regular too.
     8. When no component oscillates and the record holds level shifts (operator
-       moves, load changes: :func:`~sktiction.cycles._level_shifts.level_shifts`), whose spectrum
+       moves, load changes; see ``sktiction.cycles._level_shifts``), whose spectrum
        can bury a cycle many times smaller, steps 1-7 are run again with the shifts
        taken out, and those components are returned if one of them oscillates.
 
@@ -209,7 +209,9 @@ def detect_oscillations(
         Strongest index first; those with ``index > threshold`` oscillate. A
         component at the 2nd to 5th harmonic (within 2 %) of a slower oscillating one
         that carries more power is left out: it is part of that cycle's shape (two
-        oscillations whose periods are in such a ratio are reported as one).
+        oscillations whose periods are in such a ratio are reported as one). When step
+        8 applies, they are the components of the record without its level shifts
+        (:func:`~sktiction.cycles.analyze_cycles` lists the shifts).
 
     References
     ----------
@@ -231,14 +233,11 @@ def detect_oscillations(
     if x.size < 4 * min_period or np.ptp(x) == 0:
         return []
     args = (max_components, min_period, min_cycles, bandwidth, threshold)
-    found = _spectral_components(x, *args)
-    if any(c.index > threshold for c in found):
-        return found
-    flat, shifts = without_level_shifts(x)
-    if shifts.size == 0:
-        return found
-    second = _spectral_components(flat, *args)
-    return second if any(c.index > threshold for c in second) else found
+    return read_without_shifts(
+        x,
+        lambda y: _spectral_components(y, *args),
+        lambda found: any(c.index > threshold for c in found),
+    )[0]
 
 
 def _spectral_components(x, max_components, min_period, min_cycles, bandwidth, threshold):

@@ -27,12 +27,12 @@ from ..datasets._measured import (
 )
 from .scan import (
     GAP_COLUMNS,
-    NO_VERDICT,
     REPORT_COLUMNS,
     LearnedAdapter,
     _applicability_gate,
     _Rules,
     _scan_safely,
+    empty_rows,
     join_meta,
     loop_types_of,
     progress_bar,
@@ -47,9 +47,8 @@ STATUS_UNREADABLE = "unreadable"
 
 def _unreadable_rows(meta):
     """Report rows for loops the reader could not give (one per unreadable file)."""
-    report = pd.DataFrame({c: [np.nan] * len(meta) for c in REPORT_COLUMNS})
+    report = empty_rows(len(meta))
     report["status"] = STATUS_UNREADABLE
-    report["verdict"] = NO_VERDICT
     report["reason"] = meta["reason"].to_numpy(dtype=object)
     return report
 

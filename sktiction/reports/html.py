@@ -310,8 +310,8 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
             periods = np.where(np.isfinite(scanned), scanned, periods)
         table["period"] = periods
     if "oscillating" in table:
-        osc = table["oscillating"]
-        table["oscillating"] = np.where(osc.isna(), "", np.where(osc.eq(True), "yes", "no"))
+        table["oscillating"] = ["" if pd.isna(v) else "yes" if v else "no"
+                                for v in table["oscillating"].astype(object)]  # fmt: skip
     if "status" not in table and "input_status" in table:
         table["status"] = table["input_status"]
 

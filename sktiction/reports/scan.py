@@ -20,7 +20,10 @@ from sklearn.pipeline import FeatureUnion, Pipeline
 
 from .._cleaning import GAP_COLUMNS, in_step, repaired
 from .._validation import (
+    STATUS_EMPTY,
+    STATUS_NAN_GAP,
     STATUS_OK,
+    STATUS_TOO_SHORT,
     check_loops,
     check_max_gap,
     loop_status,
@@ -231,7 +234,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
     size = np.array(shape[["stiction_size_mean", "stiction_size_max"]], dtype=float)
     size[~sticky] = np.nan
     band = _fitted_bands(analyses, sticky)
-    index, period = _oscillations(analyses, status == STATUS_OK)
+    oscillating, index, period = _oscillations(analyses, status)
     return pd.DataFrame(
         {
             "status": status,
@@ -245,7 +248,7 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
             "shape_loop_type": shape["loop_type"].to_numpy(),
             "shape_reason": shape["reason"].to_numpy(dtype=object),
             "n_cycles": shape["n_cycles"].to_numpy(dtype=int),
-            "oscillating": index > OSCILLATION_THRESHOLD,
+            "oscillating": oscillating,
             "oscillation_index": index,
             "oscillation_period": period,
             "stiction_size_mean": size[:, 0],
@@ -259,23 +262,29 @@ def _scan_chunk(loops, loop_types, learned, rules=None, ts=None, gate=None):
     )
 
 
-#: Index above which :func:`~sktiction.cycles.analyze_cycles` calls a signal oscillating.
-OSCILLATION_THRESHOLD = 0.5
-
-
-def _oscillations(analyses, ok):
-    """Oscillation index of each loop (the larger of OP's and PV's,
-    :func:`~sktiction.cycles.analyze_cycles` as every classifier reads them) and the
-    strongest oscillating component's period in samples (NaN where neither
-    oscillates, and both NaN for loops that cannot be analysed)."""
-    index, period = np.full(len(analyses), np.nan), np.full(len(analyses), np.nan)
-    for i in np.flatnonzero(ok):
-        best = max((analyses[i].cycles(s) for s in ("op", "pv")),
-                   key=lambda a: a.oscillation_index)  # fmt: skip
-        index[i] = best.oscillation_index
-        if best.oscillating:
-            period[i] = best.periods[0]
-    return index, period
+def _oscillations(analyses, status):
+    """Whether OP or PV oscillates (pandas' nullable boolean: NA where neither could be
+    read), the larger of their indices (:func:`~sktiction.cycles.analyze_cycles`, as
+    every classifier reads them) and the period in samples of the strongest oscillating
+    component of the channel with that index. Read whatever the verdict's status (a
+    swapped or constant channel leaves the other), except where the record is empty,
+    too short or has a gap."""
+    n = len(analyses)
+    oscillating = pd.array([pd.NA] * n, dtype="boolean")
+    index, period = np.full(n, np.nan), np.full(n, np.nan)
+    unread = (STATUS_EMPTY, STATUS_TOO_SHORT, STATUS_NAN_GAP)
+    for i in np.flatnonzero(~np.isin(status, unread)):
+        read = []
+        for name in ("op", "pv"):
+            x = analyses[i].signal(name)
+            if x.size >= 20 and np.isfinite(x).all() and np.ptp(x) > 0:
+                read.append(analyses[i].cycles(name))
+        if read:
+            best = max(read, key=lambda a: a.oscillation_index)
+            oscillating[i] = any(a.oscillating for a in read)
+            index[i] = best.oscillation_index
+            period[i] = best.periods[0] if best.oscillating else np.nan
+    return oscillating, index, period
 
 
 def _fitted_bands(analyses, sticky):
@@ -295,9 +304,17 @@ def _fitted_bands(analyses, sticky):
 STATUS_NOT_FINITE = "not_finite"
 
 
+def empty_rows(n):
+    """``n`` report rows of no verdict and no values, typed as a scan's rows are (the
+    nullable boolean ``oscillating`` stays boolean once such rows are joined)."""
+    rows = pd.DataFrame({c: [np.nan] * n for c in REPORT_COLUMNS})
+    rows["oscillating"] = pd.array([pd.NA] * n, dtype="boolean")
+    rows["verdict"] = NO_VERDICT
+    return rows
+
+
 def _error_row(exc, loop=None):
-    row = pd.DataFrame([dict.fromkeys(REPORT_COLUMNS, np.nan)])
-    row["verdict"] = NO_VERDICT
+    row = empty_rows(1)
     if loop is not None and np.isinf(np.asarray(loop, dtype=float)).any():
         bad = [c for c, x in zip(("PV", "OP", "SP"), np.moveaxis(np.asarray(loop), -1, 0))
                if np.isinf(x).any()]  # fmt: skip
