@@ -80,8 +80,10 @@ def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS):
       point): a cycle, whose windows span both its levels, is not cut;
     - half of that change happens within half a window of the point, and neither
       window's median moves by more than a quarter of it from its first half to its
-      second: a ramp, a drift or a random walk, which change as much over any
-      stretch of equal length, is not cut;
+      second: a ramp or a drift, which changes as much over any stretch of equal
+      length, is not cut (a random walk's larger jumps can be: 15 of 60 walks of the
+      oscillation benchmark have one, which is why a cut is only used for a second
+      reading that must find a cycle);
 
     with windows and gap twice and four times as wide tried in turn (a transition
     lagged by a slow response). The stretches on either side are then searched again,
