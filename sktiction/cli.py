@@ -309,12 +309,14 @@ def _valves(report, path, fmt):
     """Write the per-valve table to ``path`` when asked, and say what it holds when asked
     or when some valve has several records; False if the table was asked for and could
     not be made (the scan and its other outputs stand)."""
-    if not path and not ("tag" in report and report["tag"].dropna().duplicated().any()):
+    if not path and "tag" not in report:
         return True
     try:
-        from .reports import summarise_valves
+        from .reports.valves import several_records, summarise_valves
 
         valves = summarise_valves(report)
+        if not path and not several_records(valves):
+            return True
         if path:
             _write_table(valves, path, fmt)
     except (ValueError, TypeError, OSError) as exc:

@@ -351,3 +351,22 @@ def test_manual_mode_rows_are_left_out_of_the_diagnosis(quick, tmp_path, capsys)
     assert "800 rows in manual mode (MODE 0): a scan reads them as gaps" in row["input_reason"]
     assert (row["kept_start"], row["kept_stop"]) == (800, 2000)
     assert row["auto_fraction"] == 0.6 and row["status"] == "ok"
+
+
+def test_console_and_html_pool_the_same_records_per_valve(capsys):
+    """One rule for "some valve has several records": tags that differ only by spaces
+    name one valve on the console as on the page (the console compared raw tags)."""
+    from sktiction.reports.html import _valve_summary
+
+    report = pd.DataFrame({
+        "file": ["a.csv", "b.csv", "c.csv"],
+        "tag": [" FIC1", "FIC1 ", "LIC2"],
+        "verdict": ["stiction", "stiction", "no_verdict"],
+    })  # fmt: skip
+    assert cli._valves(report, None, None)
+    assert "verdicts of 2 valves" in capsys.readouterr().err
+    assert _valve_summary(report).startswith(". 2 valves")
+    alone = report.assign(tag=["FIC1", "FIC2", None])  # every valve once
+    assert cli._valves(alone, None, None)
+    assert capsys.readouterr().err == ""
+    assert _valve_summary(alone) == ""

@@ -107,10 +107,10 @@ def _valve_summary(report):
     """A sentence on the valves when some valve (tag) has several records, else ""."""
     if "tag" not in report or "verdict" not in report:
         return ""
-    from .valves import summarise_valves
+    from .valves import several_records, summarise_valves
 
     valves = summarise_valves(report)
-    if valves["n_records"].sum() <= len(valves):
+    if not several_records(valves):
         return ""
     sticky = valves[valves["verdict"].eq("stiction")]
     named = ", ".join(f"{t} ({int(k)} of {int(j)})" for t, k, j in

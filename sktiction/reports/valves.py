@@ -69,6 +69,13 @@ def _median(values):
     return float(np.median(values)) if values.size else np.nan
 
 
+def several_records(valves):
+    """Whether some valve of a :func:`summarise_valves` table has more than one record:
+    when a per-valve verdict says more than the per-record ones (the HTML report and
+    ``sktiction scan`` both ask this, of the same table)."""
+    return bool(np.asarray(valves["n_records"]).max(initial=0) > 1)
+
+
 def summarise_valves(report, *, by="tag", min_share=0.5):
     """One row per valve of a scan report: how many of its records were judged, the share
     called sticky, the median probability and sizes, and a verdict per valve.
