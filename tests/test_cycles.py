@@ -1,5 +1,7 @@
 """Oscillation detection and time localisation, mean removal, noise-proof zero crossings."""
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.signal import lfilter
@@ -349,18 +351,25 @@ def test_smoothing_is_as_wide_as_the_noise_needs():
     assert np.array_equal(analyze_cycles(walk).smooth, analyze_cycles(walk).centred)
 
 
-@pytest.mark.parametrize("scale", [1e-13, 1e-6, 1e6])
+@pytest.mark.parametrize("scale", [1e-300, 1e-13, 1e-6, 1e6, 1e300])
 def test_scale_and_offset_change_nothing(scale):
+    # values near 1e±300 too: read in units near 1, no overflow or underflow (a warning
+    # is an error here), and the level shift of the third record is found at any scale
     t = np.arange(2000)
     rng = np.random.default_rng(0)
     noisy = 0.5 * np.sign(np.sin(2 * np.pi * t / 100)) + rng.normal(0, 0.01, t.size)
-    for x in (noisy, np.abs((t % 100) / 50 - 1)):
-        a, b = analyze_cycles(x), analyze_cycles(scale * x + 3 * scale)
+    moved = noisy + 40.0 * (t >= 1200)
+    for x in (noisy, np.abs((t % 100) / 50 - 1), moved):
+        a = analyze_cycles(x)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            b = analyze_cycles(scale * x + 3 * scale)
+        assert np.array_equal(b.level_shifts, a.level_shifts)
         assert b.oscillating and np.array_equal(a.cycles, b.cycles)
         assert np.allclose(a.crossings, b.crossings) and b.segments == a.segments
         assert b.acf_strength == pytest.approx(a.acf_strength)
         assert b.oscillation_index == pytest.approx(a.oscillation_index)
-        assert np.allclose(b.centred, scale * a.centred)
+        assert np.allclose(b.centred / scale, a.centred)  # in the unscaled units of atol
 
 
 @pytest.mark.parametrize("n, period", [(300, 160), (307, 60), (300, 120), (2000, 100), (300, 3)])

@@ -11,7 +11,7 @@ from sktiction.cycles import (
     noise_std,
     remove_mean,
 )
-from sktiction.cycles._signal import first_lobe
+from sktiction.cycles._signal import first_lobe, unit_scaled
 
 
 def test_noise_std_of_white_noise_and_of_records_too_short():
@@ -196,3 +196,18 @@ def test_noise_std_of_integers_is_that_of_their_values():
     # small integer types (ADC counts) would wrap in their second differences
     x = np.array([0, 120, -120, 100, -110, 90, 0, 127, -128, 5] * 20, dtype=np.int8)
     assert noise_std(x) == noise_std(x.astype(float)) > 0
+
+
+def test_unit_scaled_only_moves_records_beyond_two_to_the_200():
+    x = np.array([-3.0, 0.5, 2.0])
+    # 3 * 2**198 = 0.75 * 2**200, frexp exponent 200: still within the range
+    for ordinary in (x, x * 2.0**198, x * 2.0**-199, np.zeros(3), np.array([])):
+        scaled, unit = unit_scaled(ordinary)
+        assert scaled is ordinary and unit == 1.0  # read as given, to the bit
+    # 3 * 2**300 lies in [2**301, 2**302): divided by 2**302, its largest magnitude 0.75
+    scaled, unit = unit_scaled(x * 2.0**300)
+    assert unit == 2.0**302 and np.array_equal(scaled, x / 4)
+    scaled, unit = unit_scaled(x * 2.0**-300)
+    assert unit == 2.0**-298 and np.array_equal(scaled, x / 4)
+    big = np.array([1e300, np.inf])  # not finite: left to the caller's checks
+    assert unit_scaled(big)[1] == 1.0

@@ -187,5 +187,5 @@ def test_a_flat_step_of_any_size_or_scale_is_found_without_overflow_or_underflow
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert level_shifts(np.r_[np.zeros(100), np.full(100, 2e8)]).tolist() == [100]
-        for scale in (1.0, 1e-160, 1e-200):
+        for scale in (1.0, 1e-160, 1e-200, 1e-300, 1e300, 1e306):  # cumulative sums
             assert level_shifts(noisy * scale).tolist() == [300]

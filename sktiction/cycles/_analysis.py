@@ -20,6 +20,7 @@ from ._signal import (
     one_signal,
     remove_mean,
     schmitt_crossings,
+    unit_scaled,
 )
 
 #: Thornhill et al. (2003): an oscillation is regular when the mean interval between
@@ -338,13 +339,15 @@ def _analyze_cycles(x, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
                     dominant=None):
     """:func:`analyze_cycles` of a signal the caller has checked (inside a loop, a gap
     gives NaN features rather than an error)."""
-    x = np.asarray(x, dtype=float)
+    # read in units near 1 (no overflow in a spectrum's squares near 1e300), exactly
+    x, unit = unit_scaled(np.asarray(x, dtype=float))
     args = (min_cycles, hysteresis, tolerance, min_acf, threshold)
     analysis, shifts = read_without_shifts(
         x,  # the caller's dominant period is that of the record as it is
         lambda y: _read_cycles(y, *args, dominant if y is x else None),
         lambda a: a.oscillating,
     )
+    analysis.centred, analysis.smooth = analysis.centred * unit, analysis.smooth * unit
     analysis.level_shifts = shifts
     return analysis
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._signal import fast_median, fast_percentile
+from ._signal import fast_median, fast_percentile, unit_scaled
 
 #: A shift must exceed this many interquartile ranges of the windows either side of it.
 SHIFT_RATIO = 3.0
@@ -114,7 +114,7 @@ def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS):
     >>> level_shifts(np.sin(2 * np.pi * t / 80) + 0.01 * t).tolist()  # a ramp is no shift
     []
     """
-    x = np.asarray(x, dtype=float)
+    x, _ = unit_scaled(np.asarray(x, dtype=float))  # cumulative sums near 1e307
     w, g = _windows(x.size)
     found, stretches, done = [], [(0, x.size)], set()
     while len(found) < max_shifts:

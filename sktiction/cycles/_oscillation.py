@@ -9,7 +9,7 @@ import numpy as np
 from scipy.fft import irfft, next_fast_len, rfft
 
 from ._level_shifts import read_without_shifts
-from ._signal import one_signal
+from ._signal import one_signal, unit_scaled
 
 
 @dataclass
@@ -234,7 +234,7 @@ def detect_oscillations(
         return []
     args = (max_components, min_period, min_cycles, bandwidth, threshold)
     return read_without_shifts(
-        x,
+        unit_scaled(x)[0],  # its spectrum's squares: no overflow near 1e300
         lambda y: _spectral_components(y, *args),
         lambda found: any(c.index > threshold for c in found),
     )[0]

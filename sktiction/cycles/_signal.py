@@ -54,6 +54,23 @@ def one_signal(x, name="x"):
     return np.ascontiguousarray(fixed[0, : b - a, 0])
 
 
+#: Magnitudes within 2**±200 (about 1e±60) are read in their own units.
+_UNIT_RANGE = 200
+
+
+def unit_scaled(x):
+    """``x`` and 1, or, when its largest magnitude lies beyond 2**±200, ``x`` divided by
+    the power of two nearest above it, and that power: values near 1e300 are read
+    without overflow in a spectrum's squares and values near 1e-300 without underflow
+    (a power of two scales exactly; records within the range are read as given, to the
+    bit)."""
+    top = np.max(np.abs(x)) if x.size else 0.0
+    if not np.isfinite(top) or top == 0 or abs(np.frexp(top)[1]) <= _UNIT_RANGE:
+        return x, 1.0
+    unit = 2.0 ** np.frexp(top)[1]
+    return x / unit, unit
+
+
 def fast_median(x):
     """``np.median`` of a 1-D float array, to the bit, by sorting.
 
