@@ -15,8 +15,8 @@ computed once and every model reads them (``_diagnose_features``, the method beh
 ``diagnose``).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws] [first_draw]
-[--compare] [--control] [--second-simulator] [--loops=N]`` (default 10 draws from 0; 10-30 s
-per draw on 2 idle cores).
+[--compare] [--control] [--second-simulator] [--loops=N] [--without=PREFIX]`` (default 10
+draws from 0; 10-30 s per draw on 2 idle cores).
 ``--compare`` also trains each draw on every loop, the sticky loops whose slips stay
 inside the noise included (the recipe before they were left out), and prints the paired
 change; it doubles the time. ``--control`` adds two controls of that change: as many
@@ -27,6 +27,9 @@ triples the time. ``--second-simulator`` also trains each draw on the recipe's l
 prints the change from the recipe alone: does a second simulator bring the model closer to
 the plants? ``--loops=N`` also trains each draw's recipe on ``N`` simulated loops instead of
 1,500 and prints the paired change: does more of the simulator carry over?
+``--without=PREFIX`` also trains each draw's recipe without the model columns whose names
+start with ``PREFIX`` (e.g. ``valve_model__multiscale``) and prints the change from leaving
+them out: what a group of features brings, draw by draw.
 """
 
 import sys
@@ -133,8 +136,22 @@ def _with_second_simulator(seed, X, y, n_loops=600):
     return np.concatenate(pad), np.concatenate([y, y2])
 
 
-def main(n_draws=10, first=0, compare=False, control=False, second=False, loops=None):
-    rows, paired, mixed, bigger, sets = [], [], [], [], None
+def _without(prefix, seed):
+    """The recipe's classifier, untrained, reading every model column but those whose
+    names start with ``prefix`` (the evaluation sets' features are selected by name)."""
+    recipe = make_learned_classifier(random_state=seed, n_jobs=2)
+
+    class Without(type(recipe)):
+        def _features(self, loops):
+            feats = super()._features(loops)
+            return feats.drop(columns=[c for c in feats.columns if c.startswith(prefix)])
+
+    return Without(**recipe.get_params())
+
+
+def main(n_draws=10, first=0, compare=False, control=False, second=False, loops=None,
+         without=None):
+    rows, paired, mixed, bigger, ablated, sets = [], [], [], [], [], None
     for seed in range(first, first + n_draws):
         t0 = time.perf_counter()
         X, y = _training_set(seed, 1500, 2000, "default")
@@ -165,6 +182,12 @@ def main(n_draws=10, first=0, compare=False, control=False, second=False, loops=
             bigger.append({**rows[-1], "training": "recipe"})
             bigger.append({"draw": seed, "training": f"recipe on {loops} loops",
                            **_scores(more, sets)})  # fmt: skip
+        if without:
+            less = _without(without, seed).fit(X, y)
+            assert not any(c.startswith(without) for c in less.feature_names_)
+            ablated.append({**rows[-1], "training": "recipe"})
+            ablated.append({"draw": seed, "training": f"recipe without {without}*",
+                            **_scores(less, sets)})  # fmt: skip
         print(f"draw {seed}: trained and judged in {time.perf_counter() - t0:.0f} s", flush=True)
     table = pd.DataFrame(rows).set_index("draw")
     print(table.round(3).to_string())
@@ -178,6 +201,8 @@ def main(n_draws=10, first=0, compare=False, control=False, second=False, loops=
         _paired(mixed, base="recipe")
     if bigger:
         _paired(bigger, base="recipe")
+    if ablated:
+        _paired(ablated, base=f"recipe without {without}*")
 
 
 if __name__ == "__main__":
@@ -189,4 +214,5 @@ if __name__ == "__main__":
         control="--control" in sys.argv,
         second="--second-simulator" in sys.argv,
         loops=next((int(a.split("=")[1]) for a in sys.argv if a.startswith("--loops=")), None),
+        without=next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--without=")), None),
     )

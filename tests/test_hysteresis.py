@@ -10,7 +10,6 @@ from sktiction.features import PVOPHysteresis
 from sktiction.features.hysteresis import (
     FEATURES,
     PLAY_BAND_RATIO,
-    _block_means,
     _moves,
     _window,
     hysteresis_fill,
@@ -19,7 +18,7 @@ from sktiction.features.hysteresis import (
     valve_band,
     valve_fit,
 )
-from sktiction.features.stiction_model import _play, fit_stiction_band
+from sktiction.features.stiction_model import _play, block_means, fit_stiction_band
 from sktiction.reports import scan_loops
 
 T = np.arange(6000)
@@ -71,8 +70,8 @@ def test_time_scale_is_where_the_autocorrelation_halves():
 
 
 def test_block_means():
-    np.testing.assert_array_equal(_block_means(np.arange(10.0), 3), [1.0, 4.0, 7.0])
-    np.testing.assert_array_equal(_block_means(np.arange(4.0), 1), np.arange(4.0))
+    np.testing.assert_array_equal(block_means(np.arange(10.0), 3), [1.0, 4.0, 7.0])
+    np.testing.assert_array_equal(block_means(np.arange(4.0), 1), np.arange(4.0))
 
 
 def _share_fit(pv, op, k):
@@ -87,7 +86,7 @@ def test_valve_fit_finds_the_band_as_a_share_of_op_span(valve_walk):
     assert span == np.ptp(op)
     assert gain > 0.5 and band == pytest.approx(2.0, rel=0.2)
     g3, b3, s3 = valve_fit(pv, op, 3)  # block means of 3: fit on the means
-    p, o = _block_means(pv, 3), _block_means(op, 3)
+    p, o = block_means(pv, 3), block_means(op, 3)
     assert s3 == np.ptp(o)
     np.testing.assert_allclose([g3, b3], fit_stiction_band(p, o))
 

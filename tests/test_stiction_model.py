@@ -7,11 +7,14 @@ from sktiction._validation import loop_lengths
 from sktiction.datasets import make_loops
 from sktiction.features import StictionModelFit
 from sktiction.features.stiction_model import (
+    _chance_gain,
     _design,
     _grid_normal_equations,
     _play,
     _sse,
+    block_means,
     fit_stiction_band,
+    fit_stiction_band_multiscale,
 )
 
 
@@ -129,3 +132,72 @@ def test_the_smallest_allowed_n_lags_works(valve_walk):
     assert np.isfinite(StictionModelFit(n_lags=2).fit_transform(X)).all()
     with pytest.raises(ValueError, match="n_lags must be an integer >= 2"):
         fit_stiction_band(pv, op, n_lags=1)
+
+
+def _slow_valve_loop(band, n=4000, delay=20, tau=20.0, noise=0.2, seed=0):
+    """PV from a random-walk OP through a dead band, a first-order lag and a delay that
+    the one-step fit's eight lags do not reach."""
+    from scipy.signal import lfilter
+
+    rng = np.random.default_rng(seed)
+    op = 50 + np.cumsum(rng.normal(0, 0.3, n))
+    a = np.exp(-1.0 / tau)
+    lagged = lfilter([1 - a], [1, -a], _play(op, band) - op[0])
+    return np.r_[np.zeros(delay), lagged[:-delay]] + rng.normal(0, noise, n), op
+
+
+def test_multiscale_fit_finds_a_band_the_one_step_fit_misses():
+    pv, op = _slow_valve_loop(4.0)
+    assert fit_stiction_band(pv, op)[0] < 0.05
+    gain, share, scale = fit_stiction_band_multiscale(pv, op)
+    assert gain > 0.3 and scale in (4, 8, 16)
+    # the best scale's own fit, less what a band gains by chance on its 4000 // scale rows,
+    # and its band over the span of OP's block means there
+    g, b = fit_stiction_band(block_means(pv, scale), block_means(op, scale))
+    m = 4000 // scale
+    assert gain == pytest.approx(g - (1 - m ** (-1 / m)), rel=1e-12)
+    assert share == b / np.ptp(block_means(op, scale))
+    assert 0.5 < share * np.ptp(op) / 4.0 < 1.5  # the band, within the fit's bias
+    # a linear valve: one step ahead the two read alike (gain 0.03 both); on block means
+    # the dead band explains 0.6 of the linear model's residual, under 0.1 for the linear one
+    pv0, op0 = _slow_valve_loop(0.0)
+    assert abs(fit_stiction_band(pv0, op0)[0] - fit_stiction_band(pv, op)[0]) < 0.01
+    gain0, share0, _ = fit_stiction_band_multiscale(pv0, op0)
+    assert gain0 < 0.1 and gain0 < gain / 5
+
+
+def test_chance_gain_is_the_bic_penalty_of_one_parameter():
+    # m ln(1 / (1 - g)) = ln m: 150 rows need a gain of 3.3 %, 4000 rows 0.2 %
+    for m in (150, 600, 4000):
+        g = _chance_gain(m)
+        assert m * np.log(1 / (1 - g)) == pytest.approx(np.log(m), rel=1e-12)
+    assert 0.032 < _chance_gain(150) < 0.034 and 0.002 < _chance_gain(4000) < 0.0021
+
+
+def test_multiscale_fit_tries_only_scales_with_enough_blocks_and_reuses_the_first():
+    pv, op = _slow_valve_loop(4.0, n=1000)
+    fits = {k: fit_stiction_band(block_means(pv, k), block_means(op, k)) for k in (1, 2, 4, 8)}
+    excess = {k: fits[k][0] - _chance_gain(1000 // k) for k in fits}
+    gain, share, scale = fit_stiction_band_multiscale(pv, op)  # 1000 // 8 = 125 < 150
+    assert scale == max((1, 2, 4), key=excess.get) and gain == excess[scale]
+    gain8, _, scale8 = fit_stiction_band_multiscale(pv, op, min_blocks=100)
+    assert scale8 == max(excess, key=excess.get) and gain8 == excess[scale8]
+    # the caller's first fit is used as given at block length 1
+    m = pv.size
+    assert fit_stiction_band_multiscale(pv, op, scales=(1,), first=(0.123, 1.0)) == (
+        0.123 - _chance_gain(m), 1.0 / np.ptp(op), 1)
+    # no more than chance: no band, no scale; nothing to fit: NaN
+    assert fit_stiction_band_multiscale(pv, op, scales=(1,), first=(0.0001, 1.0)) == (0, 0, 0)
+    assert np.isnan(fit_stiction_band_multiscale(pv[:100], op[:100])[0])
+    gain, share, scale = fit_stiction_band_multiscale(pv, np.full(pv.size, 3.0))
+    assert np.isnan(gain) and np.isnan(share) and scale == 0
+
+
+def test_transformer_reports_the_multiscale_columns():
+    pv, op = _slow_valve_loop(4.0)
+    X = np.stack([pv, op, np.zeros(pv.size)], axis=-1)[None]
+    est = StictionModelFit().fit(X)
+    got = dict(zip(est.get_feature_names_out(), est.transform(X)[0]))
+    gain, share, _ = fit_stiction_band_multiscale(pv, op)
+    assert got["multiscale_fit_gain"] == gain and got["multiscale_fit_band_share"] == share
+    assert got["multiscale_fit_gain"] > got["stiction_fit_gain"] + 0.3

@@ -29,7 +29,7 @@ import numpy as np
 from ..cycles import autocorrelation, moving_average, noise_std, remove_mean
 from ..cycles._signal import fast_median, fast_percentile
 from ._loops import LoopAnalysis, LoopTransformer
-from .stiction_model import _DEFAULT_GRID, band_curve, fit_stiction_band
+from .stiction_model import _DEFAULT_GRID, band_curve, block_means, fit_stiction_band
 
 FEATURES = (
     "stuck_share",
@@ -79,11 +79,6 @@ def time_scale(op, n):
     return int(np.clip(tau, 2, max(2, n // 10)))
 
 
-def _block_means(x, k):
-    m = x.size // k
-    return x[: m * k].reshape(m, k).mean(axis=1)
-
-
 #: Block means fitted per loop, over all block phases, about: enough that where the
 #: blocks start no longer moves the fit (see :func:`valve_fit`).
 _FIT_POINTS = 1000
@@ -116,7 +111,7 @@ def valve_fit(pv, op, k):
     k = max(1, min(k, pv.size // 60))
     n_phases = int(np.clip(_FIT_POINTS // max(1, pv.size // k), 1, min(k, 4)))
     if n_phases == 1:
-        p, o = _block_means(pv, k), _block_means(op, k)
+        p, o = block_means(pv, k), block_means(op, k)
         span = np.ptp(o)
         if p.size < 60 or span == 0:
             return np.nan, np.nan, span
@@ -124,7 +119,7 @@ def valve_fit(pv, op, k):
         return gain, band, span
     spans, curves = [], []
     for phase in np.unique(np.arange(n_phases) * k // n_phases):
-        p, o = _block_means(pv[phase:], k), _block_means(op[phase:], k)
+        p, o = block_means(pv[phase:], k), block_means(op[phase:], k)
         spans.append(np.ptp(o))
         curve = band_curve(p, o) if p.size >= 60 else None
         if curve is not None and curve[-1][0] > 0:
