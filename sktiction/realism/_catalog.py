@@ -124,6 +124,22 @@ def _band(stats):
     return np.where(count > 0, np.where(ok, both, 0.0).sum(axis=0) / np.maximum(count, 1), np.nan)
 
 
+def _hold_fraction(stats):
+    """``HoldLastValue``'s ``fraction`` that holds the measured share of rows.
+
+    Runs of one sample are left out of ``hold_fraction``: a share ``1 / L**2`` of the held
+    rows at geometric runs of mean ``L``, put back here. ``HoldLastValue(fraction, L)`` holds
+    a share ``L / (L / fraction + 1)`` of the rows (each run follows a stored row), so a held
+    share ``H`` asks for ``fraction = H L / (L - H)``; shares above the ``L / (L + 1)`` it can
+    reach ask for 1.
+    """
+    run = np.nan_to_num(_col(stats, "hold_run_length"), nan=2.0)
+    held = _col(stats, "hold_fraction") / (1.0 - 1.0 / np.maximum(run, 1.5) ** 2)
+    run = np.maximum(run, 1.0)
+    held = np.minimum(held, run / (run + 1.0))
+    return held * run / (run - held)
+
+
 def snr_per_loop(stats):
     """First guess of each loop's SNR (dB) from its noise level (NaN without one).
 
@@ -319,10 +335,7 @@ _ENTRIES = [
         "repeats are not counted); quantisation freezes PV alone.",
         present=lambda s: _col(s, "hold_fraction") > _HOLD_MIN,
         params=lambda s: _frame(
-            # runs of one sample are left out of hold_fraction: a share 1 / L**2 of the rows
-            fraction=_col(s, "hold_fraction")
-            / (1.0 - 1.0 / np.maximum(np.nan_to_num(_col(s, "hold_run_length"), nan=2.0), 1.5)
-               ** 2),
+            fraction=_hold_fraction(s),
             mean_run=np.nan_to_num(_col(s, "hold_run_length"), nan=2.0),
         ),
         make=lambda fraction, mean_run: historian.HoldLastValue(
