@@ -187,6 +187,28 @@ TARGETED = {
         "tests/test_readers_long.py", "tests/test_read_loops.py",
         "tests/test_long_known_answers.py",
     ],
+    # not the plant-window scan (51 s), nor the browser tests, nor the figures on two
+    # processes or with a progress bar (their threads hang mutmut's forked runs)
+    "sktiction/reports/valves.py": [
+        "tests/test_reports_known_answers.py",
+        *(f"tests/test_summarise_valves.py::{test}" for test in (
+            "test_counts_shares_medians_and_verdicts_by_hand",
+            "test_min_share_and_the_grouping_column", "test_awkward_reports_keep_every_record",
+            "test_bad_input_is_named")),
+        "tests/test_html_report.py::test_valves_with_several_records_are_summed_up_on_the_page",
+        "tests/test_cli.py::test_console_and_html_pool_the_same_records_per_valve",
+    ],
+    "sktiction/reports/html.py": [
+        "tests/test_reports_known_answers.py",
+        *(f"tests/test_html_report.py::{test}" for test in (
+            "test_file_is_self_contained",
+            "test_a_loop_that_cannot_be_read_again_costs_only_its_figure",
+            "test_report_rows_must_match_loops",
+            "test_valves_with_several_records_are_summed_up_on_the_page",
+            "test_a_scans_oscillation_columns_fill_the_table_for_every_loop")),
+        "tests/test_reports.py::test_html_figure_titles_carry_the_verdict_and_sizes",
+        "tests/test_cli.py::test_console_and_html_pool_the_same_records_per_valve",
+    ],
     "sktiction/simulation/controllers.py": [
         "tests/test_simulation.py", "tests/test_valves.py", "tests/test_controllers.py",
     ],

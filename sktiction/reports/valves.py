@@ -105,7 +105,8 @@ def summarise_valves(report, *, by="tag", min_share=0.5):
         (median ``stiction_probability`` of the judged records), ``stiction_size_median``
         and ``stiction_band_median`` (medians of ``stiction_size_mean`` and
         ``stiction_band_fit`` over the records called sticky), ``first_start`` and
-        ``last_start`` (the earliest and latest ``start``, when the report has one),
+        ``last_start`` (the earliest and latest ``start``, when the report has one; in
+        UTC when the report's starts carry several UTC offsets),
         ``verdict``. Sorted by ``stiction_share`` then ``probability_median``, highest
         first.
 
@@ -154,6 +155,8 @@ def summarise_valves(report, *, by="tag", min_share=0.5):
         "judged": verdict.isin([VERDICT_STICTION, VERDICT_HEALTHY]).fillna(False),
         "sticky": verdict.eq(VERDICT_STICTION).fillna(False),
     }, index=report.index)  # fmt: skip
+    # read once for the whole report: one valve's several offsets put every valve in UTC
+    all_starts = _starts(report["start"]) if "start" in report else pd.Series(pd.NaT, report.index)
     rows = []
     for valve, part in frame.groupby(by, sort=False, dropna=False):
         rec = report.loc[part.index]
@@ -161,7 +164,7 @@ def summarise_valves(report, *, by="tag", min_share=0.5):
         n_judged, n_sticky = int(judged.sum()), int(sticky.sum())
         share = n_sticky / n_judged if n_judged else np.nan
         types = rec["loop_type"].dropna().astype(str) if "loop_type" in rec else pd.Series()
-        starts = _starts(rec["start"]).dropna() if "start" in rec else pd.Series()
+        starts = all_starts.loc[part.index]
         rows.append({
             by: valve,
             "loop_type": types.iloc[0] if len(types) else "",
@@ -175,8 +178,8 @@ def summarise_valves(report, *, by="tag", min_share=0.5):
                                                     pd.Series(np.nan, rec.index))[sticky]),
             "stiction_band_median": _median(rec.get("stiction_band_fit",
                                                     pd.Series(np.nan, rec.index))[sticky]),
-            "first_start": starts.min() if len(starts) else pd.NaT,
-            "last_start": starts.max() if len(starts) else pd.NaT,
+            "first_start": starts.min(),  # NaT when none is known
+            "last_start": starts.max(),
             "verdict": (NO_VERDICT if not n_judged else
                         VERDICT_STICTION if share >= min_share else VERDICT_HEALTHY),
         })  # fmt: skip
