@@ -203,7 +203,12 @@ def _console_table(report):
     """File, tag, reader status, verdict and one reason per row, for people."""
     table = pd.DataFrame(index=report.index)
     table["file"] = _file_labels(report) if "file" in report else ""
-    table["tag"] = report["tag"].fillna("").astype(str) if "tag" in report else ""
+    if "tag" in report:  # a tag column of numbers read as floats: 101, not 101.0
+        from .reports.valves import _whole
+
+        table["tag"] = report["tag"].astype(object).map(_whole).fillna("").astype(str)
+    else:
+        table["tag"] = ""
     table["read"] = _read_status(report)
     for col in TABLE_COLUMNS[3:-1]:
         if col in report:
@@ -335,9 +340,11 @@ def _valves(report, path, fmt):
 
 
 def _print_table(table, file=None):
+    from .reports.html import _decimals
+
     with pd.option_context("display.width", 200, "display.max_columns", 20,
                            "display.max_colwidth", 70, "display.float_format",
-                           "{:.2f}".format):
+                           lambda x: _decimals(x, 2)):
         print(table.to_string(index=False), file=file)
 
 

@@ -891,3 +891,26 @@ def test_apply_hands_on_sample_time_and_seed():
     hold = [historian.HoldLastValue(0.4, 3.0)]
     np.testing.assert_array_equal(apply_effects(X, hold, random_state=1),
                                   apply_effects(X, hold, random_state=1))  # fmt: skip
+
+
+def test_own_share_from_a_reference_without_correlation_is_zero():
+    """A pilot whose median loop shows no PV-OP correlation (0, or nearly) leaves none to
+    lower: share 0, as for NaN, not ZeroDivisionError (nor OverflowError)."""
+    own = calibrate_module._own_share
+    assert own(0.35, 0.0) == 0.0 and own(0.0, 0.0) == 0.0 and own(0.35, -0.0) == 0.0
+    assert own(np.float64(0.35), 0.0) == 0.0 and own(0.5, 1e-200) == 0.0
+    assert isinstance(own(0.35, 0.0), float)
+
+
+def test_calibrate_with_pilots_that_show_no_correlation(monkeypatch):
+    def pilot(realism, rng, n_loops=80, n_samples=600, **kwargs):
+        stats = _table(n_loops, noise_level=0.04, pv_op_corr=0.0)
+        return stats, pd.DataFrame({"loop_type": ["all"] * n_loops})
+
+    monkeypatch.setattr(calibrate_module, "_pilot", pilot)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        realism = calibrate(_table(12, pv_op_corr=0.35), random_state=0)
+    # the first guess (0.75 from the default world's 0.7) is refined to 0 by every pilot
+    assert (realism.profiles["pv_own_share"] == 0.0).all()
+    assert realism.overrides["pv_own_share"] == (0.0, 0.0)

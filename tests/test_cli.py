@@ -370,3 +370,22 @@ def test_console_and_html_pool_the_same_records_per_valve(capsys):
     assert cli._valves(alone, None, None)
     assert capsys.readouterr().err == ""
     assert _valve_summary(alone) == ""
+
+
+def test_console_table_shows_float_tags_as_written_and_no_minus_zero(capsys):
+    """A report read back with a tag column of numbers and a gap (floats), and numbers
+    that round to 0 from below: the console shows 101 and 0.00, not 101.0 and -0.00."""
+    report = pd.DataFrame({
+        "file": ["a.csv", "b.csv", "c.csv"], "tag": [101.0, np.nan, 2.5],
+        "verdict": ["stiction", "no_verdict", "no_stiction"],
+        "stiction_probability": [0.9, np.nan, 0.2], "stiction_band_fit": [-0.001, np.nan, -0.5],
+    })  # fmt: skip
+    table = cli._console_table(report)
+    assert table["tag"].tolist() == ["101", "", "2.5"]
+    cli._print_table(table)
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1].split()[:6] == ["a.csv", "101", "ok", "stiction", "0.90", "0.00"]
+    assert lines[3].split()[:6] == ["c.csv", "2.5", "ok", "no_stiction", "0.20", "-0.50"]
+    assert "-0.00" not in "\n".join(lines) and "101.0" not in "\n".join(lines)
+    assert cli._console_table(report.assign(tag=["101.0", None, " F1"]))["tag"].tolist() == [
+        "101.0", "", " F1"]  # text tags as they are

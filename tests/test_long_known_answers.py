@@ -30,7 +30,7 @@ START = pd.Timestamp("2026-01-05 08:00")
 def _table(df):
     """A :class:`Table` of ``df`` (columns read by position, as the file readers give)."""
     return Table(list(df.columns), {"notes": []},
-                 lambda pos: pd.DataFrame({p: df.iloc[:, p] for p in pos}))  # fmt: skip
+                 lambda pos, text: pd.DataFrame({p: df.iloc[:, p] for p in pos}))  # fmt: skip
 
 
 def _to_numbers(col, tag):

@@ -492,3 +492,81 @@ def test_each_figure_gets_its_loop_sample_time_cycles_title_and_dpi(tmp_path, mo
     assert '<p class="note">no figure: no data</p>' in text
     assert '<p class="note">no figure: error: ValueError: bad &lt;axis&gt;</p>' in text
     assert sizes(_page(report, tmp_path, X, dpi=36)) == [(72, 36)] * 3
+
+
+def test_the_summary_without_verdicts_has_no_empty_sentence(tmp_path):
+    report = pd.DataFrame({"tag": ["A", "B"], "area_ratio": [1.5, 2.0]})
+    assert '<p class="summary">2 loops. Click' in _page(report, tmp_path)
+    assert '<p class="summary">0 loops. Click' in _page(report.iloc[:0], tmp_path)
+    # verdicts all missing, one valve twice: the valve sentence alone
+    unjudged = pd.DataFrame({"tag": ["A", "A"], "verdict": [NAN, NAN]})
+    assert ('<p class="summary">2 loops. 1 valve; called sticky in at least half of their '
+            "judged records: 0. Click") in _page(unjudged, tmp_path)
+    assert ". ." not in _page(unjudged, tmp_path)
+
+
+def test_numbers_that_round_to_zero_show_no_minus_sign(tmp_path):
+    report = pd.DataFrame({"stiction_probability": [-0.001, 0.004],
+                           "stiction_size_mean": [-0.04, -0.06], "stiction_band_fit": [-0.0, 0.0],
+                           "area_ratio": [-0.004, -0.005]})  # fmt: skip
+    rows = _rows(_page(report, tmp_path))
+    # shown rounded, without "-0.0"; sorted by the full value, sign and all
+    assert [(v, s) for _, v, s in rows[0]] == [("-0.001", "0.00"), ("-0.04", "0.0"),
+                                               ("-0.0", "0.0"), (None, ""), ("-0.004", "0.00")]
+    assert [s for _, _, s in rows[1]] == ["0.00", "-0.1", "0.0", "", "-0.01"]
+
+
+def test_a_figure_title_shows_no_minus_zero(tmp_path, monkeypatch):
+    import matplotlib.pyplot as plt
+
+    import sktiction.reports.plots as plots
+
+    titles = []
+
+    def plot(one, *, ts, cycles, title):
+        titles.append(title)
+        return plt.figure(figsize=(1, 1))
+
+    monkeypatch.setattr(plots, "loop_cycles", lambda one: pd.DataFrame())
+    monkeypatch.setattr(plots, "plot_loop_summary", plot)
+    report = pd.DataFrame({"tag": ["a"], "stiction_size_mean": [-0.001],
+                           "stiction_band_fit": [-0.006]})  # fmt: skip
+    _page(report, tmp_path, np.ones((1, 30, 3)))
+    assert titles == ["a, peak-to-peak 0.00 %, fitted band -0.01 %"]
+
+
+def test_tags_read_as_floats_show_and_pool_as_written(tmp_path):
+    """A report read back from a file whose tag column holds numbers and a gap (a file
+    that held no loop) has tags 101.0: the page shows 101, as the file says."""
+    report = pd.DataFrame({"file": ["a.csv", "b.csv", "c.csv", "d.csv"],
+                           "tag": [101.0, 101.0, NAN, 2.5],
+                           "verdict": ["stiction", "stiction", "no_verdict", "no_stiction"]})
+    text = _page(report, tmp_path, np.full((4, 20, 3), NAN))
+    assert [r[1][2] for _, r in sorted(_rows(text).items())] == [
+        '<a href="#loop-0">101</a>', '<a href="#loop-1">101</a>', '<a href="#loop-2"></a>',
+        '<a href="#loop-3">2.5</a>']  # fmt: skip
+    assert "101.0" not in text
+    assert '<section class="loop" id="loop-0"><h2>101: stiction</h2>' in text
+    assert ("4 loops. stiction: 2, no_verdict: 1, no_stiction: 1. 3 valves; called sticky "
+            "in at least half of their judged records: 1, 101 (2 of 2). Click") in text
+    valves = summarise_valves(report)
+    assert valves["tag"].tolist() == ["101", "2.5", "file c.csv"]  # by share, NaN last
+    assert valves["n_records"].tolist() == [2, 1, 1]
+    # text tags are left as they are
+    text = _page(report.assign(tag=["101.0", "101", "", " F 1 "]), tmp_path)
+    assert [r[1][2] for _, r in sorted(_rows(text).items())] == ["101.0", "101", "", " F 1 "]
+
+
+def test_a_long_export_with_number_tags_names_them_as_written(tmp_path):
+    """Tags 101 and 007 in a long export, a trailer line without a tag: the tag column is
+    read as text, so the loops are 101 (not 101.0) and 007 (not 7)."""
+    from sktiction.datasets import read_loop_file
+
+    t = pd.date_range("2024-01-01", periods=200, freq="10s").strftime("%Y-%m-%d %H:%M:%S")
+    x = np.sin(np.arange(200) / 10)
+    lines = ["Tag,Parameter,Time,Value"]
+    for tag in ("101", "007"):
+        lines += [f"{tag},{p},{s},{v:.6f}" for p in ("PV", "OP") for s, v in zip(t, x)]
+    (tmp_path / "long.csv").write_text("\n".join([*lines, ",,End of data,"]) + "\n")
+    meta = read_loop_file(tmp_path / "long.csv").meta
+    assert sorted(meta["tag"]) == ["007", "101"] and (meta["status"] == "ok").all()

@@ -150,7 +150,7 @@ def paired_table(table, is_time):
         return None
     times = sorted(set(owner.values()))
 
-    def reader(positions):
+    def reader(positions, text):  # the tags are the column names: text
         frame = table.read(sorted(set(owner) | set(times)))
         parts = [pd.DataFrame({0: names[i], 1: frame[owner[i]], 2: frame[i]}) for i in owner]
         long = pd.concat(parts, ignore_index=True)
@@ -326,7 +326,9 @@ def pivot_long(table, cols, to_numbers, *, loop_of=lambda tag: "", time_name="ti
     """
     positions = [cols["time"], cols["tag"], cols["value"], *cols["quality"]]
     positions += [cols[k] for k in ("parameter", "date") if cols[k] is not None]
-    frame = table.read(positions)
+    # tags as the file writes them: numbers with a gap in the column would read 101.0
+    text = [cols[k] for k in ("tag", "parameter") if cols[k] is not None]
+    frame = table.read(positions, text=text)
     info, names = table.info, table.names
     notes = info["notes"]
     key = _keys(frame, cols)
@@ -391,7 +393,7 @@ def pivot_long(table, cols, to_numbers, *, loop_of=lambda tag: "", time_name="ti
     wide_names = [time_name] + [str(k) for k in tags]
     columns = {0: stamp, **{j + 1: wide[:, j] for j in range(n_tags)}}
 
-    def reader(positions):
+    def reader(positions, text):  # the values are numbers, the times timestamps
         return pd.DataFrame({p: columns[p] for p in positions})
 
     return Table(wide_names, info, reader)

@@ -178,10 +178,11 @@ class Table:
         self.info = info
         self._reader = reader
 
-    def read(self, positions):
+    def read(self, positions, text=()):
         """Columns at ``positions`` (a list of int), named by position, blank rows and
-        repeated header rows counted."""
-        frame = self._reader(sorted(set(positions)))
+        repeated header rows counted. Those at ``text`` are read as the text a text file
+        holds (tags: ``0101`` or ``101`` with a gap in the column, not 101.0)."""
+        frame = self._reader(sorted(set(positions)), text)
         again = _repeated_header(frame, self.names)
         if again is not None:
             self.info["notes"].append(f"{count(int(again.sum()), 'repeated header row')} "
@@ -453,7 +454,7 @@ def _open_text(path):
         skip = header + 1 + skip_after
     info["notes"] = notes
 
-    def read_csv(positions, errors):
+    def read_csv(positions, text, errors):
         with warnings.catch_warnings():
             # Mixed numbers and status text in one column are expected and handled later.
             warnings.simplefilter("ignore", pd.errors.DtypeWarning)
@@ -461,16 +462,17 @@ def _open_text(path):
                 path, sep=sep, header=None, skiprows=skip, usecols=positions,
                 encoding=encoding, encoding_errors=errors, decimal=decimal,
                 skip_blank_lines=False, index_col=False, engine="c",
+                dtype=dict.fromkeys(text, str) or None,
             )  # fmt: skip
 
-    def reader(positions):
+    def reader(positions, text):
         try:
             try:
                 # Strict decoding stays in the C parser; "replace" doubles the memory.
-                return read_csv(positions, "strict")
+                return read_csv(positions, text, "strict")
             except UnicodeDecodeError:
                 notes.append(f"bytes that are not {encoding} replaced")
-                return read_csv(positions, "replace")
+                return read_csv(positions, text, "replace")
         except pd.errors.EmptyDataError as exc:
             raise FileError("file has no data rows") from exc
         except (pd.errors.ParserError, ValueError) as exc:
@@ -555,7 +557,9 @@ def _open_xlsx(path, accept=None):
         # the sheet names its loop only when the workbook gives several tables
         info = {"format": "xlsx", "tag": None, "time_format": None, "declared_rows": None,
                 "sheet": sheet if len(sheets) > 1 else None, "notes": notes}  # fmt: skip
-        tables.append(Table(names, info, lambda positions, body=body: body[positions].copy()))
+        # cells as the workbook holds them: a whole number is an int, its text "101"
+        tables.append(Table(names, info,
+                            lambda positions, text, body=body: body[positions].copy()))
     return tables
 
 
@@ -571,7 +575,7 @@ def _open_parquet(path):
     stored = list(schema.names)
     names, notes = _parquet_index(schema, stored)
 
-    def reader(positions):
+    def reader(positions, text):  # the types stored: text columns are text already
         # pyarrow without the pandas metadata: an index (``df.set_index("time")``) is then
         # a column like the others instead of being set aside, which the positions need
         table = pq.read_table(path, columns=[stored[p] for p in positions])

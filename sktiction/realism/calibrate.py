@@ -345,9 +345,12 @@ def calibrate(measured, *, loop_types=None, groups=None, refine=True, random_sta
 def _own_share(corr, reference):
     """Share of PV's own variation that lowers a PV-OP correlation from ``reference`` to
     ``corr``: a component uncorrelated with OP carrying a share ``s`` of the PV variance scales
-    the correlation by ``sqrt(1 - s)``."""
-    with np.errstate(invalid="ignore", divide="ignore"):
-        share = 1.0 - (float(corr) / float(reference)) ** 2
+    the correlation by ``sqrt(1 - s)``. A reference of 0 (a pilot whose median loop shows
+    no correlation) leaves nothing to lower: 0, as for NaN."""
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        # numpy's division: by 0 (or nearly) it gives inf or NaN, share 0 below; Python's
+        # raises ZeroDivisionError (OverflowError)
+        share = 1.0 - (np.float64(corr) / np.float64(reference)) ** 2
     return float(np.clip(share, 0.0, _MAX_SHARE)) if np.isfinite(share) else 0.0
 
 

@@ -99,8 +99,14 @@ def _fmt(value, kind):
         return html.escape(str(value)), ""
     if not np.isfinite(x):
         return "", ""
-    shown = {"prob": f"{x:.2f}", "num1": f"{x:.1f}", "num2": f"{x:.2f}"}[kind]
-    return shown, repr(x)
+    return _decimals(x, {"prob": 2, "num1": 1, "num2": 2}[kind]), repr(x)
+
+
+def _decimals(x, digits):
+    """``x`` as text to ``digits`` decimals; a small negative number shows ``0.00``, not
+    the ``-0.00`` it rounds to (the console's table shows numbers this way too)."""
+    text = f"{x:.{digits}f}"
+    return text.lstrip("-") if float(text) == 0 else text
 
 
 def _valve_summary(report):
@@ -115,7 +121,8 @@ def _valve_summary(report):
     sticky = valves[valves["verdict"].eq("stiction")]
     named = ", ".join(f"{t} ({int(k)} of {int(j)})" for t, k, j in
                       zip(sticky["tag"], sticky["n_stiction"], sticky["n_judged"]))  # fmt: skip
-    return (f". {len(valves)} valves; called sticky in at least half of their judged "
+    noun = "valve" if len(valves) == 1 else "valves"
+    return (f". {len(valves)} {noun}; called sticky in at least half of their judged "
             f"records: {len(sticky)}" + (f", {named}" if named else ""))
 
 
@@ -147,7 +154,7 @@ def _figure_title(report, i):
                       ("stiction_band_fit", "fitted band")):  # fmt: skip
         value = row.get(col, np.nan)
         if np.isfinite(value):
-            parts.append(f"{name} {value:.2f} %")
+            parts.append(f"{name} {_decimals(value, 2)} %")
     return ", ".join(parts)
 
 
@@ -284,6 +291,10 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
     """
 
     report = report.reset_index(drop=True)
+    if "tag" in report:  # a tag column of numbers read as floats: 101, not 101.0
+        from .valves import _whole
+
+        report = report.assign(tag=report["tag"].astype(object).map(_whole))
     n = len(report)
     loop_of = _loop_getter(X, n)
     if ts is None:
@@ -332,7 +343,9 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
 
     counts = table["verdict"].value_counts() if "verdict" in table else pd.Series(dtype=int)
     summary = ", ".join(f"{v}: {int(c)}" for v, c in counts.items())
-    summary += _valve_summary(report)
+    # a sentence only when there is something to say (no verdicts: no empty ". ")
+    summary = (summary + _valve_summary(report)).removeprefix(". ")
+    summary = f"{html.escape(summary)}. " if summary else ""
     sections = []
     for i, png in figures.items():
         name = html.escape(_label(report, i))
@@ -353,7 +366,7 @@ def write_html_report(report, X=None, path="sktiction_report.html", *, ts=None,
 <title>{html.escape(title)}</title><style>{_CSS}</style></head>
 <body>
 <h1>{html.escape(title)}</h1>
-<p class="summary">{n} loops. {html.escape(summary)}. Click a column header to sort; click a
+<p class="summary">{n} loops. {summary}Click a column header to sort; click a
 file or tag to see its figure: PV, SP and OP with the analysed cycles shaded and the OP/PV
 template that matches each cycle best (e.g. <i>tria/rect</i>: OP triangular, PV rectangular),
 PV against OP, and the area ratio R of each cycle.</p>

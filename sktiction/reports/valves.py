@@ -35,13 +35,17 @@ COLUMNS = (
 )
 
 
+def _whole(v):
+    """``v``, but a whole float as the text of its integer: a tag column of numbers with a
+    gap, read as floats, names the tag ``101``, not ``101.0``."""
+    return str(int(v)) if isinstance(v, float) and np.isfinite(v) and v % 1 == 0 else v
+
+
 def _text(values):
     """Values as stripped text, whole numbers without a decimal point (a tag column of
     numbers with a gap reads 101, not 101.0); missing values stay missing."""
-    def whole(v):
-        return int(v) if isinstance(v, float) and np.isfinite(v) and v % 1 == 0 else v
-
-    return pd.Series(values).astype(object).map(whole).astype("string").str.strip()
+    # text, not int: map() would make ints and NaN floats again
+    return pd.Series(values).astype(object).map(_whole).astype("string").str.strip()
 
 
 def _label(report, by):
