@@ -12,6 +12,7 @@ from sktiction.features.stiction_model import (
     _grid_normal_equations,
     _play,
     _sse,
+    band_curve,
     block_means,
     fit_stiction_band,
     fit_stiction_band_multiscale,
@@ -108,6 +109,43 @@ def test_a_given_grid_is_searched(valve_walk):
     assert far[1] in (0.0, pytest.approx(0.5 * span)) and far[0] < gain
 
 
+def test_band_curve_reads_eight_lags_by_default_and_fits_each_band_by_least_squares(
+        valve_walk):  # fmt: skip
+    # the curve that hysteresis.valve_fit averages over block phases, with no n_lags given
+    pv, op = valve_walk(n=400)
+    pv_c, op_c, n_lags, bands, _, sses = band_curve(pv, op)
+    assert n_lags == 8  # 400 // 20 = 20 lags allowed, the default 8 used
+    np.testing.assert_allclose(bands, np.r_[0.0, np.geomspace(0.002, 0.6, 24) * np.ptp(op)])
+    ref = [_sse(pv - pv.mean(), _play(op - op.mean(), d), 8) for d in bands]
+    np.testing.assert_allclose(sses, ref, rtol=1e-8)
+
+
+def test_an_op_that_moves_only_in_its_last_two_samples_is_fitted_like_lstsq():
+    # OP 0 but for +1, -1 at the end: its mean is exactly 0, so the valve position sits
+    # at exactly 0 in every row of the lags beyond the first, and those columns of the
+    # design are all zeros (a zero diagonal the column scaling must leave alone)
+    op = np.zeros(200)
+    op[-2:] = 1.0, -1.0
+    pv = np.random.default_rng(0).normal(size=200)
+    A = _design(pv, op, 8)
+    assert not A[:, 3:10].any() and A[:, 2].any()
+    # nothing in OP's two moves explains PV's noise better than the linear model
+    assert fit_stiction_band(pv, op) == lstsq_grid(pv, op) == (0.0, 0.0)
+
+
+def test_float32_records_and_grids_are_fitted_in_double_precision(valve_walk):
+    pv, op = valve_walk()
+    pv32, op32 = pv.astype(np.float32), op.astype(np.float32)
+    # the same values in float64 give the same fit to the last bit
+    pv64, op64 = pv32.astype(float), op32.astype(float)
+    assert fit_stiction_band(pv32, op32) == fit_stiction_band(pv64, op64)
+    span = float(np.ptp(op))
+    grid = np.float32([1.0 / span, 2.0 / span])  # fractions not exact in float32
+    gain, band = fit_stiction_band(pv, op, grid=grid)
+    assert band in (float(grid[0]) * span, float(grid[1]) * span)  # float64 products
+    assert (gain, band) == fit_stiction_band(pv, op, grid=grid.astype(float))
+
+
 def _valve_loops(valve_walk, n=1500):
     pv, op = valve_walk(n=n)
     return pv, op, np.stack([pv, op, np.full(pv.size, 50.0)], axis=1)[None]
@@ -191,6 +229,103 @@ def test_multiscale_fit_tries_only_scales_with_enough_blocks_and_reuses_the_firs
     assert np.isnan(fit_stiction_band_multiscale(pv[:100], op[:100])[0])
     gain, share, scale = fit_stiction_band_multiscale(pv, np.full(pv.size, 3.0))
     assert np.isnan(gain) and np.isnan(share) and scale == 0
+
+
+def test_block_means_average_whole_blocks_and_drop_the_rest():
+    x = np.arange(11.0)  # blocks of 3: (0, 1, 2), (3, 4, 5), (6, 7, 8); 9 and 10 dropped
+    np.testing.assert_array_equal(block_means(x, 3), [1.0, 4.0, 7.0])
+    np.testing.assert_array_equal(block_means(x[:8], 4), [1.5, 5.5])  # no partial block
+    np.testing.assert_array_equal(block_means(x, 1), x)
+    assert block_means(x, 12).shape == (0,)  # not even one whole block
+
+
+def test_chance_gain_known_values():
+    # 1 - m**(-1/m) = 1 - exp(-ln(m) / m): ln 150 = 5.0106, / 150 = 0.033404, and
+    # 1 - exp(-0.033404) = 0.033404 - 0.033404**2 / 2 + ... = 0.032852; ln 4000 = 8.2941,
+    # / 4000 = 0.0020735, less its half square 2.1e-6: 0.0020714
+    assert _chance_gain(150) == pytest.approx(0.032852, abs=2e-6)
+    assert _chance_gain(4000) == pytest.approx(0.0020714, abs=2e-7)
+    assert _chance_gain(150) > _chance_gain(600) > _chance_gain(4000)  # fewer rows, more
+
+
+def _excess(pv, op, k, n_lags=8):
+    """Scale k by hand: the fit on its block means less the chance gain of its
+    ``n // k`` whole blocks, and the band over the span of OP's block means."""
+    pk, ok = block_means(pv, k), block_means(op, k)
+    gain, band = fit_stiction_band(pk, ok, n_lags=n_lags)
+    return gain - _chance_gain(pv.size // k), band / np.ptp(ok)
+
+
+def test_multiscale_fit_counts_whole_blocks_and_tries_a_scale_at_exactly_min_blocks():
+    # 1001 samples: 500 whole blocks of 2 (not 500.5), the chance gain of 500 rows
+    pv, op = _slow_valve_loop(4.0, n=1001)
+    excess, share = _excess(pv, op, 2)
+    assert excess > 0 and _chance_gain(500) - _chance_gain(500.5) > 1e-6
+    gain, got_share, scale = fit_stiction_band_multiscale(pv, op, scales=(2,))
+    assert (gain, got_share, scale) == (pytest.approx(excess, rel=1e-12), share, 2)
+    # 1000 samples are 250 blocks of 4: tried at min_blocks=250, not at 251
+    pv, op = _slow_valve_loop(4.0, n=1000)
+    excess, share = _excess(pv, op, 4)
+    assert excess > 0
+    got = fit_stiction_band_multiscale(pv, op, scales=(4,), min_blocks=250)
+    assert got == (pytest.approx(excess, rel=1e-12), share, 4)
+    got = fit_stiction_band_multiscale(pv, op, scales=(4,), min_blocks=251)
+    assert np.isnan(got[:2]).all() and got[2] == 0
+
+
+def test_multiscale_fit_uses_n_lags_at_every_scale():
+    pv, op = _slow_valve_loop(4.0, n=1000)
+    for n_lags in (3, 8):
+        excess = {k: _excess(pv, op, k, n_lags=n_lags) for k in (1, 2, 4)}
+        best = max(excess, key=lambda k: excess[k][0])
+        assert excess[best][0] > 0
+        got = fit_stiction_band_multiscale(pv, op, n_lags=n_lags, scales=(1, 2, 4))
+        assert got == (pytest.approx(excess[best][0], rel=1e-12), excess[best][1], best)
+    # the two lag counts do give different fits (else this would check nothing)
+    assert _excess(pv, op, 4, n_lags=3)[0] != pytest.approx(_excess(pv, op, 4)[0], rel=1e-3)
+
+
+def test_multiscale_fit_skips_a_scale_it_cannot_fit_and_needs_more_than_chance():
+    pv, op = _slow_valve_loop(4.0, n=1000)
+    n = pv.size
+    # a first fit of NaN (the record could not be fitted at block length 1) is skipped,
+    # and the coarser scales still read
+    got = fit_stiction_band_multiscale(pv, op, scales=(1, 2, 4), first=(np.nan, np.nan))
+    assert got == fit_stiction_band_multiscale(pv, op, scales=(2, 4))
+    assert np.isfinite(got[0]) and got[2] in (2, 4)
+    # a first fit of exactly the chance gain is no evidence: excess 0, no band, no scale
+    first = (_chance_gain(n), 1.0)
+    assert fit_stiction_band_multiscale(pv, op, scales=(1,), first=first) == (0.0, 0.0, 0)
+    # the first fit is used at block length 1 only: block length 2 is fitted on its means
+    # (an excess of 1e-3 at block length 1 with a band of half OP's span: the scale with
+    # the larger excess wins, not the one whose excess beats the other's band share)
+    first = (_chance_gain(n) + 1e-3, 0.5 * np.ptp(op))
+    excess2, share2 = _excess(pv, op, 2)
+    assert 1e-3 < excess2 < 0.5
+    got = fit_stiction_band_multiscale(pv, op, scales=(1, 2), first=first)
+    assert got == (pytest.approx(excess2, rel=1e-12), share2, 2)
+
+
+def test_multiscale_fit_of_a_band_below_chance_at_every_scale_is_zero():
+    # PV white noise, unrelated to OP: some band lowers every scale's residual a little,
+    # not by the chance gain of its rows in this draw (0.76, 0.48 and 0.62 of it; other
+    # draws pass it at some scale: the grid searches 24 bands, not one)
+    rng = np.random.default_rng(4)
+    op = 50 + np.cumsum(rng.normal(0, 0.3, 1000))
+    pv = rng.normal(size=1000)
+    for k in (1, 2, 4):
+        gain = fit_stiction_band(block_means(pv, k), block_means(op, k))[0]
+        assert 0 < gain < _chance_gain(1000 // k)
+    assert fit_stiction_band_multiscale(pv, op) == (0.0, 0.0, 0)
+
+
+def test_transformer_passes_n_lags_to_the_multiscale_fit():
+    pv, op = _slow_valve_loop(4.0, n=1500)
+    X = np.stack([pv, op, np.zeros(pv.size)], axis=-1)[None]
+    two = StictionModelFit(n_lags=2).fit_transform(X)[0]
+    gain, share, _ = fit_stiction_band_multiscale(pv, op, n_lags=2)
+    assert (two[3], two[4]) == (gain, share)
+    assert gain != pytest.approx(fit_stiction_band_multiscale(pv, op)[0], rel=1e-3)
 
 
 def test_transformer_reports_the_multiscale_columns():
