@@ -6,8 +6,9 @@ loops whose slips stay inside the noise (``learned._training_set``). The booster
 changes nothing with the defaults (see ``LearnedStictionClassifier``), so ``s`` only picks
 the simulated loops. This script trains the same recipe on several draws and judges each
 on the same loops: the second simulator (``independent_world.py``, 400 loops), the
-measured windows (``../shared/data``; per window and one vote per valve, as
-``measured_data.py`` counts them) and 600 held-out loops of the default world. A single
+third simulator (``third_world.py``, its two draws of 400 loops pooled), the measured
+windows (``../shared/data``; per window and one vote per valve, as ``measured_data.py``
+counts them) and 600 held-out loops of the default world. A single
 draw's figure is one sample of this spread: compare recipes by their mean over draws.
 
 Features are a pure function of each loop, so each evaluation set's features are
@@ -43,6 +44,7 @@ from sklearn.metrics import balanced_accuracy_score
 sys.path.insert(0, str(Path(__file__).parent))
 from _measured_common import load_measured  # noqa: E402
 from independent_world import make_independent_loops  # noqa: E402
+from third_world import make as make_third_loops  # noqa: E402
 
 from sktiction._cleaning import as_judged  # noqa: E402
 from sktiction._validation import check_loops  # noqa: E402
@@ -60,6 +62,12 @@ def _evaluation_sets(clf):
     sets = {}
     X, y, _ = make_independent_loops(400, 6000, random_state=2026)
     sets["second simulator"] = (X, y, None)
+    third = [make_third_loops(400, random_state=seed) for seed in (0, 1)]
+    n = max(X3.shape[1] for X3, _, _ in third)
+    sets["third simulator"] = (
+        np.concatenate([np.pad(X3, ((0, 0), (0, n - X3.shape[1]), (0, 0)),
+                               constant_values=np.nan) for X3, _, _ in third]),
+        np.concatenate([y3 for _, y3, _ in third]), None)  # fmt: skip
     measured = load_measured()
     if measured is not None:
         Xm, ym, _, meta = measured

@@ -336,3 +336,21 @@ def test_transformer_reports_the_multiscale_columns():
     gain, share, _ = fit_stiction_band_multiscale(pv, op)
     assert got["multiscale_fit_gain"] == gain and got["multiscale_fit_band_share"] == share
     assert got["multiscale_fit_gain"] > got["stiction_fit_gain"] + 0.3
+
+
+def test_a_noise_free_pv_that_its_own_lags_predict_gains_nothing():
+    """A sine PV is exact for two PV lags (x[t] = 2 cos(w) x[t-1] - x[t-2]): both residuals
+    are rounding, and their ratio must not pass for a band's gain."""
+    rng = np.random.default_rng(3)
+    t = np.arange(3000)
+    gains = []
+    for period in (37.0, 61.0, 113.0, 250.0):
+        pv = np.sin(2 * np.pi * t / period)
+        for _ in range(5):
+            op = np.cumsum(rng.normal(0, 1, t.size))
+            gains.append(fit_stiction_band(pv, op)[0])
+            gains.append(fit_stiction_band_multiscale(pv, op)[0])
+    assert gains == [0.0] * len(gains)
+    # with noise 1e-6 of its amplitude the fit is a fit again, and finds no band
+    pv = np.sin(2 * np.pi * t / 61.0) + rng.normal(0, 1e-6, t.size)
+    assert fit_stiction_band(pv, np.cumsum(rng.normal(0, 1, t.size)))[0] < 0.05

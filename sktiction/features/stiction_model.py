@@ -36,6 +36,8 @@ MIN_BLOCKS = 150
 #: costs as much as a small fit).
 _DEFAULT_GRID = np.geomspace(0.002, 0.6, 24)
 _DEFAULT_GRID.flags.writeable = False
+#: A linear fit's residual below this share of PV's sum of squares is exact to rounding.
+_EXACT_FIT = 1e-20
 
 
 @njit(cache=True, nogil=True)
@@ -205,7 +207,9 @@ def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
     best = 1 + int(np.argmin(sses[1:]))
     # the two residuals that are reported, recomputed on the design itself
     base = _residual_sse(pv, op, n_lags, coefs[0])
-    if base == 0:
+    # PV that its own two lags predict exactly (a noise-free sine or ramp) leaves both
+    # residuals at rounding level, whose ratio means nothing: no room for a band
+    if base <= _EXACT_FIT * float(pv[n_lags:] @ pv[n_lags:]):
         return 0.0, 0.0
     sse_best = _residual_sse(pv, _play(op, bands[best]), n_lags, coefs[best])
     if sse_best >= base:
