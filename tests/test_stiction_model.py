@@ -8,15 +8,33 @@ from sktiction.datasets import make_loops
 from sktiction.features import StictionModelFit
 from sktiction.features.stiction_model import (
     _chance_gain,
-    _design,
     _grid_normal_equations,
     _play,
-    _sse,
     band_curve,
     block_means,
     fit_stiction_band,
     fit_stiction_band_multiscale,
 )
+
+# plain-numpy references: the design matrix and its least squares
+
+
+def _design(pv, x, n_lags):
+    """Rows t >= n_lags of [pv[t-1], pv[t-2], x[t-1..t-n_lags], 1] for ARX."""
+    n = pv.size
+    cols = [pv[n_lags - 1 : n - 1], pv[n_lags - 2 : n - 2]]
+    cols += [x[n_lags - k : n - k] for k in range(1, n_lags + 1)]
+    cols.append(np.ones(n - n_lags))
+    return np.column_stack(cols)
+
+
+def _sse(pv, x, n_lags):
+    """Residual sum of squares of the ARX fit by least squares on the design matrix."""
+    A = _design(pv, x, n_lags)
+    b = pv[n_lags:]
+    coef, *_ = np.linalg.lstsq(A, b, rcond=None)
+    r = b - A @ coef
+    return float(r @ r)
 
 
 def lstsq_grid(pv, op, n_lags=8):
@@ -354,3 +372,23 @@ def test_a_noise_free_pv_that_its_own_lags_predict_gains_nothing():
     # with noise 1e-6 of its amplitude the fit is a fit again, and finds no band
     pv = np.sin(2 * np.pi * t / 61.0) + rng.normal(0, 1e-6, t.size)
     assert fit_stiction_band(pv, np.cumsum(rng.normal(0, 1, t.size)))[0] < 0.05
+
+
+def test_normal_equations_are_solved_by_cholesky_where_well_posed_else_least_norm():
+    """Well-conditioned normal equations: Cholesky's answer is the least-squares one;
+    collinear columns fail a pivot and get a least-squares answer by the pseudo-inverse
+    (least norm in the scaled columns), whose fit is ``lstsq``'s."""
+    from sktiction.features.stiction_model import _cholesky_solve, _solve_normal
+
+    rng = np.random.default_rng(7)
+    A = rng.normal(size=(200, 5)) * [1.0, 1e3, 1e-3, 5.0, 1.0]  # columns of any scale
+    b = rng.normal(size=200)
+    B = A.copy()
+    B[:, 4] = 2.0 * B[:, 0] - B[:, 3]  # a column the others make
+    Gs, hs = np.stack([A.T @ A, B.T @ B]), np.stack([A.T @ b, B.T @ b])
+    coefs, ok = _cholesky_solve(Gs, hs, 1e-6)
+    assert ok.tolist() == [True, False]
+    assert np.allclose(coefs[0], np.linalg.lstsq(A, b, rcond=None)[0], rtol=1e-9, atol=1e-12)
+    both = _solve_normal(Gs, hs)
+    assert np.array_equal(both[0], coefs[0])  # the well-posed band keeps Cholesky's answer
+    assert np.allclose(B @ both[1], B @ np.linalg.lstsq(B, b, rcond=None)[0], atol=1e-9)

@@ -51,24 +51,6 @@ def _play(u, d):
     return x
 
 
-def _design(pv, x, n_lags):
-    """Rows t >= n_lags of [pv[t-1], pv[t-2], x[t-1..t-n_lags], 1] for ARX."""
-    n = pv.size
-    cols = [pv[n_lags - 1 : n - 1], pv[n_lags - 2 : n - 2]]
-    cols += [x[n_lags - k : n - k] for k in range(1, n_lags + 1)]
-    cols.append(np.ones(n - n_lags))
-    return np.column_stack(cols)
-
-
-def _sse(pv, x, n_lags):
-    """Residual sum of squares of the ARX fit by least squares on the design matrix."""
-    A = _design(pv, x, n_lags)
-    b = pv[n_lags:]
-    coef, *_ = np.linalg.lstsq(A, b, rcond=None)
-    r = b - A @ coef
-    return float(r @ r)
-
-
 @njit(cache=True, nogil=True)
 def _window_sum(x, y, lag, k, n_lags, core):
     """``sum over t in [n_lags, n) of x[t - k] * y[t - k + lag]``, given ``core``, the sum
@@ -84,7 +66,8 @@ def _window_sum(x, y, lag, k, n_lags, core):
 
 @njit(cache=True, nogil=True)
 def _grid_normal_equations(pv, op, bands, n_lags):
-    """Normal equations ``G = A'A``, ``h = A'b`` of the ARX design of :func:`_design`
+    """Normal equations ``G = A'A``, ``h = A'b`` of the ARX design whose rows t >= n_lags
+    are ``[pv[t-1], pv[t-2], x[t-1..t-n_lags], 1]``
     for the valve position ``_play(op, d)`` of every band d.
 
     Every cross-product is a sum over a window that slides with the lag: one dot
@@ -141,27 +124,89 @@ def _grid_normal_equations(pv, op, bands, n_lags):
     return Gs, hs, np.dot(b, b)
 
 
+@njit(cache=True, nogil=True)
+def _cholesky_solve(Gs, hs, min_pivot):
+    """Each band's coefficients by Cholesky on the unit-diagonal scaled normal equations,
+    and whether every pivot reached ``min_pivot`` (else the band is left to the
+    eigen-decomposition of :func:`_solve_normal`)."""
+    n_g, m = hs.shape
+    coefs = np.zeros((n_g, m))
+    ok = np.ones(n_g, dtype=np.bool_)
+    L = np.empty((m, m))
+    d = np.empty(m)
+    y = np.empty(m)
+    for g in range(n_g):
+        for i in range(m):
+            d[i] = np.sqrt(Gs[g, i, i]) if Gs[g, i, i] > 0 else 1.0
+        for j in range(m):
+            s = Gs[g, j, j] / (d[j] * d[j])
+            for k in range(j):
+                s -= L[j, k] * L[j, k]
+            if not s >= min_pivot:  # also NaN
+                ok[g] = False
+                break
+            L[j, j] = np.sqrt(s)
+            for i in range(j + 1, m):
+                s = Gs[g, i, j] / (d[i] * d[j])
+                for k in range(j):
+                    s -= L[i, k] * L[j, k]
+                L[i, j] = s / L[j, j]
+        if not ok[g]:
+            continue
+        for i in range(m):  # L y = h / d
+            s = hs[g, i] / d[i]
+            for k in range(i):
+                s -= L[i, k] * y[k]
+            y[i] = s / L[i, i]
+        for i in range(m - 1, -1, -1):  # L' z = y
+            s = y[i]
+            for k in range(i + 1, m):
+                s -= L[k, i] * coefs[g, k]
+            coefs[g, i] = s / L[i, i]
+        for i in range(m):
+            coefs[g, i] /= d[i]
+    return coefs, ok
+
+
 def _solve_normal(Gs, hs):
-    """Least-squares coefficients from a stack of normal equations, one batched call.
+    """Least-squares coefficients from a stack of normal equations.
 
-    Columns are scaled to a unit diagonal and the scaled Gram matrices inverted on
-    their well-determined eigen-directions (a pseudo-inverse), so a valve position
-    that barely moves (collinear columns) gives the least-norm fit, as ``lstsq`` does.
+    Columns are scaled to a unit diagonal. Where the scaled Gram matrix is well
+    conditioned (every Cholesky pivot at least 1e-6: its smallest eigenvalue is then far
+    above the 1e-15 cut below) Cholesky solves it; otherwise it is inverted on its
+    well-determined eigen-directions (a pseudo-inverse), so a valve position that barely
+    moves (collinear columns) still gets the least-squares fit (least norm in the scaled
+    columns). Cholesky's loops cost a tenth of a batched ``eigh`` on these 11 x 11 systems.
     """
-    d = np.sqrt(np.einsum("gii->gi", Gs))
+    coefs, ok = _cholesky_solve(Gs, hs, 1e-6)
+    if ok.all():
+        return coefs
+    bad = ~ok
+    G, h = Gs[bad], hs[bad]
+    d = np.sqrt(np.einsum("gii->gi", G))
     d[d == 0] = 1.0
-    w, V = np.linalg.eigh(Gs / (d[:, :, None] * d[:, None, :]))
+    w, V = np.linalg.eigh(G / (d[:, :, None] * d[:, None, :]))
     keep = w > 1e-15 * w[:, -1:]
-    proj = np.einsum("gij,gi->gj", V, hs / d)
+    proj = np.einsum("gij,gi->gj", V, h / d)
     proj = np.where(keep, proj / np.where(keep, w, 1.0), 0.0)
-    return np.einsum("gij,gj->gi", V, proj) / d
+    coefs[bad] = np.einsum("gij,gj->gi", V, proj) / d
+    return coefs
 
 
+@njit(cache=True, nogil=True)
 def _residual_sse(pv, x, n_lags, coef):
-    """``|b - A coef|^2`` on the design itself: exact for the coefficients given, and
-    off the least squares only to second order in their error."""
-    r = pv[n_lags:] - _design(pv, x, n_lags) @ coef
-    return float(r @ r)
+    """``|b - A coef|^2`` on the ARX design, row by row without building
+    it: exact for the coefficients given, and off the least squares only to second order
+    in their error."""
+    m = n_lags + 3
+    acc = 0.0
+    for t in range(n_lags, pv.size):
+        pred = coef[0] * pv[t - 1] + coef[1] * pv[t - 2]
+        for k in range(1, n_lags + 1):
+            pred += coef[1 + k] * x[t - k]
+        r = pv[t] - (pred + coef[m - 1])
+        acc += r * r
+    return acc
 
 
 def fit_stiction_band(pv, op, *, n_lags=8, grid=None):
