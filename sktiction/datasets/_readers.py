@@ -343,8 +343,10 @@ def _delimited_header(lines, notes, spread=()):
     if sep == "," or decimal == ".":
         # a number only US grouping writes (1,500.25, 1,000,000): the comma groups thousands
         # in the file's other cells too (1,019)
+        # such a number holds a comma, which a comma-separated line has inside quotes only
         us = re.compile(US_SURE)
-        sure = any(us.fullmatch(f) for ln in data for f in _fields(ln, sep))
+        sure = any(us.fullmatch(f) for ln in data if "," in ln and (sep != "," or '"' in ln)
+                   for f in _fields(ln, sep))  # fmt: skip
         thousands = "," if sure else None
     if decimal == ",":
         notes.append("decimal comma")
@@ -416,8 +418,9 @@ def _spread_rows(path, raw, encoding):
             at = len(raw) + (size - len(raw) - chunk) * k // n
             fh.seek(at - at % step)
             text = fh.read(chunk).decode(encoding, errors="replace")
-            lines = re.split(r"\r\n|\r|\n", text)[1:-1]
-            rows += [ln for ln in lines if ln.strip()]
+            text = text.replace("\r\n", "\n") if "\r" in text else text
+            lines = text.split("\n") if "\r" not in text else re.split(r"\r|\n", text)
+            rows += [ln for ln in lines[1:-1] if ln.strip()]
     return rows
 
 
