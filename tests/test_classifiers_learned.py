@@ -34,9 +34,11 @@ from sktiction.classifiers.learned import (
     normalise_loops,
     pv_op_coupling,
 )
+from sktiction.cycles._signal import lines_through_changes
 from sktiction.datasets import make_loops
 from sktiction.features._loops import analyse_loops
 from sktiction.reports import scan_loops
+from sktiction.simulation.historian import _swinging_door
 
 
 def pi_loop(n=1000, seed=0, step=True):
@@ -222,6 +224,51 @@ def test_domain_statistics_of_held_and_unrelated_records():
     ok = np.array(["ok", "ok", "ok", "ok", "constant"])  # a status given is obeyed
     np.testing.assert_array_equal(domain_statistics(loops[:4], ok[:4]), stats[:4])
     assert np.isnan(domain_statistics(loops[:1], ok[-1:])).all()
+
+
+def door_stepped(x, deviation):
+    """A swinging-door historian's stored points of ``x``, exported stepped (each held)."""
+    keep, a, up, lo = [0], 0, -np.inf, np.inf
+    for i in range(1, len(x)):
+        up = max(up, (x[i] - x[a] - deviation) / (i - a))
+        lo = min(lo, (x[i] - x[a] + deviation) / (i - a))
+        if up > lo:
+            a = i - 1
+            keep.append(a)
+            up, lo = x[i] - x[a] - deviation, x[i] - x[a] + deviation
+    keep = np.array([*keep, len(x) - 1])
+    return x[keep][np.searchsorted(keep, np.arange(len(x)), side="right") - 1]
+
+
+def test_lines_through_changes_turn_a_stepped_export_into_the_interpolated_one():
+    pv = pi_loop(seed=1)[0]
+    deviation = 0.03 * np.ptp(pv)
+    np.testing.assert_allclose(lines_through_changes(door_stepped(pv, deviation)),
+                               _swinging_door(pv, deviation), atol=1e-12)  # fmt: skip
+    assert lines_through_changes(pv) is pv  # nothing repeats: the record itself
+
+
+def test_a_loop_exported_stepped_tag_by_tag_stays_coupled_and_unrelated_ones_do_not():
+    # PV and OP stored by a swinging door of 3 % each move at times of their own: sample
+    # by sample the PI relation is lost (z about 4, refused before), the lines through
+    # their changes keep it
+    pv, op, sp = pi_loop(seed=1)
+    loop = np.stack([door_stepped(pv, 0.03 * np.ptp(pv)), door_stepped(op, 0.03 * np.ptp(op)),
+                     sp], -1)  # fmt: skip
+    assert pv_op_coupling(loop[:, 0], loop[:, 1], sp) < 5
+    z, white, frozen = domain_statistics(loop[None])[0]
+    assert z > 20 and np.isnan(white) and frozen < 0.8
+    # independent walks stepped alike stay unrelated, or frozen beyond the model's 80 %
+    # (at a deviation of 10 %: 98 % of the steps, where both readings can err)
+    rng = np.random.default_rng(4)
+    walks = np.cumsum(rng.normal(size=(40, 2, 2000)), axis=2)
+    for share in (0.003, 0.01, 0.03, 0.1):
+        loops = np.stack([np.stack([door_stepped(w[0], share * np.ptp(w[0])),
+                                    door_stepped(w[1], share * np.ptp(w[1])),
+                                    np.zeros(2000)], -1) for w in walks])  # fmt: skip
+        z, white, frozen = domain_statistics(loops).T
+        related = (z >= 5) & ~((z < 10) & ~(white >= 3)) & (frozen <= 0.8)
+        assert related.mean() <= 0.05, share
 
 
 # ---- domain rules on crafted rows ---------------------------------------------------------

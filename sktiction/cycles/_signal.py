@@ -249,6 +249,30 @@ def drawn_lines(x, d2=None):
     return rows if rows is not None and rows.size >= _MIN_STORED else None
 
 
+def lines_through_changes(x):
+    """``x`` (1-D, finite) drawn as straight lines through the samples where it takes a
+    new value; ``x`` itself when no sample repeats its predecessor.
+
+    A compressing historian exported stepped (each stored value held until the next)
+    moves a tag only at the points it stored, at times of its own for each tag, so the
+    sample-to-sample changes of PV and OP hardly ever coincide even where the loop
+    relates them. The lines are what an interpolated export of the same points shows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.cycles._signal import lines_through_changes
+    >>> lines_through_changes(np.array([0.0, 0.0, 0.0, 3.0, 3.0, 1.0])).tolist()
+    [0.0, 1.0, 2.0, 3.0, 2.0, 1.0]
+    """
+    x = np.asarray(x, dtype=float)
+    moved = np.flatnonzero(np.diff(x) != 0) + 1
+    if moved.size == x.size - 1:
+        return x
+    rows = np.unique(np.concatenate([[0], moved, [x.size - 1]]))
+    return np.interp(np.arange(x.size), rows, x[rows])
+
+
 def _stored_noise(x, rows):
     """Noise level of an interpolated export from its stored points ``rows``: each point's
     distance from the line through its two neighbours, read from the lower quartile so
