@@ -561,3 +561,15 @@ def test_long_column_roles_in_other_languages(names, found):
 
     cols = long_columns(names, _is_time)
     assert {k: cols[k] for k in found} == found
+
+
+def test_numeric_tags_of_a_parquet_export_keep_their_names(tmp_path):
+    """Parquet stores a column of tag numbers as floats: the loop is 101, not 101.0."""
+    pytest.importorskip("pyarrow")
+    X, _, rows = _wide_and_rows(n=120)
+    rows["Tag"] = rows["Tag"].map({"FIC101": 101.0, "LIC7": 7.0})
+    rows.to_parquet(tmp_path / "long.parquet", index=False)
+    data = read_loop_file(tmp_path / "long.parquet")
+    assert sorted(data.meta["tag"]) == ["101", "7"]
+    order = np.argsort(data.meta["tag"].astype(int).to_numpy())
+    np.testing.assert_array_equal(data.X[order], X[::-1])

@@ -163,11 +163,19 @@ def paired_table(table, is_time):
     return Table(["tag", "time", "value"], info, reader)
 
 
+def _text(col):
+    """A key column as text; whole floats as their integer (a Parquet or workbook column
+    of numeric tags holds 101.0 for the tag 101)."""
+    if col.dtype.kind == "f":
+        col = col.map(lambda v: str(int(v)) if np.isfinite(v) and v % 1 == 0 else str(v))
+    return col.astype(str).str.strip()
+
+
 def _keys(frame, cols):
     """Each row's column name after the pivot: the tag, or ``tag.parameter``."""
-    tag = frame[cols["tag"]].astype(str).str.strip()
+    tag = _text(frame[cols["tag"]])
     if cols["parameter"] is not None:
-        tag = tag + "." + frame[cols["parameter"]].astype(str).str.strip()
+        tag = tag + "." + _text(frame[cols["parameter"]])
     return tag.where(frame[cols["tag"]].notna())
 
 
