@@ -391,6 +391,11 @@ def test_rows_and_sections_follow_each_other_and_the_file_is_utf8(tmp_path):
         '<a href="#loop-2">2.5</a>']  # fmt: skip
     assert text.count("</tr><tr ") == 2 and text.count("</section><section ") == 2
     assert "<h1>\u00e9tat</h1>" in text
+    # numeric tags head their sections as in the table (they had read "loop 2")
+    assert '<section class="loop" id="loop-2"><h2>2.5: stiction</h2>' in text
+    ints = write_html_report(report.assign(tag=[101, 7, 8]), np.full((3, 20, 3), np.nan),
+                             path=tmp_path / "i.html").read_text(encoding="utf-8")  # fmt: skip
+    assert '<section class="loop" id="loop-1"><h2>7: stiction</h2>' in ints
     # leftover index columns of a report reset twice do not matter
     again = report.reset_index().reset_index()
     assert _rows(_page(again, tmp_path)) == _rows(_page(report, tmp_path))

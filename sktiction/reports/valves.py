@@ -36,9 +36,14 @@ COLUMNS = (
 
 
 def _whole(v):
-    """``v``, but a whole float as the text of its integer: a tag column of numbers with a
-    gap, read as floats, names the tag ``101``, not ``101.0``."""
-    return str(int(v)) if isinstance(v, float) and np.isfinite(v) and v % 1 == 0 else v
+    """``v``, but a number as text and a whole float as the text of its integer: a tag
+    column of numbers with a gap, read as floats, names the tag ``101``, not ``101.0``;
+    missing values stay missing."""
+    if isinstance(v, numbers.Integral) and not isinstance(v, (bool, np.bool_)):
+        return str(int(v))
+    if isinstance(v, float) and np.isfinite(v):
+        return str(int(v)) if v % 1 == 0 else str(v)
+    return v
 
 
 def _text(values):
