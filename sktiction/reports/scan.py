@@ -61,11 +61,10 @@ VERDICT_STICTION, VERDICT_HEALTHY, NO_VERDICT = "stiction", "no_stiction", "no_v
 
 
 def _applicability_gate():
-    """The input gate (:func:`~sktiction.classifiers.applicability.assess_applicability`)."""
-    try:
-        from ..classifiers.applicability import assess_applicability
-    except ImportError:  # the gate is optional until it lands in the package
-        return None
+    """The input gate (:func:`~sktiction.classifiers.applicability.assess_applicability`),
+    looked up when a scan starts so that a test can scan without it."""
+    from ..classifiers.applicability import assess_applicability
+
     return assess_applicability
 
 
