@@ -196,3 +196,28 @@ def test_explicit_arguments_win_over_a_calibrated_worlds_profile():
     _, _, meta = make_loops(8, n_samples=600, realism=_ProfileWorld(), snr_db_range=(0.0, 1.0),
                             random_state=0, return_meta=True)  # fmt: skip
     assert meta["snr_db"].between(0.0, 1.0).all()
+
+
+def test_load_steps_move_op_to_new_levels_for_either_label():
+    """load_step_fraction=1: every loop's record holds load steps that OP answers with a
+    new level, sticky and healthy loops alike; 0 (the default) draws none and changes no
+    other draw."""
+    kw = {"short_fraction": 0.0, "random_state": 7, "return_meta": True}
+    X0, y0, meta0 = make_loops(120, 1000, **kw)
+    X1, y1, meta1 = make_loops(120, 1000, load_step_fraction=1.0, **kw)
+    assert (meta0["load_steps"] == 0).all()
+    assert meta1["load_steps"].between(1, 4).all()
+    np.testing.assert_array_equal(X0, make_loops(120, 1000, load_step_fraction=0.0, **kw)[0])
+    free0 = _loop_stats(X0)["op_load_shifts"].to_numpy() >= 1
+    free1 = _loop_stats(X1)["op_load_shifts"].to_numpy() >= 1
+    # measured (1,000 samples): healthy 0.03 -> 0.42, sticky 0.10 -> 0.47 on seed 7;
+    # seeds 8-9: healthy +0.23 and +0.26, sticky +0.40 and +0.32
+    for label in (0, 1):
+        assert free0[y0 == label].mean() <= 0.15
+        assert free1[y1 == label].mean() - free0[y0 == label].mean() >= 0.2
+
+
+@pytest.mark.parametrize("value", [-0.1, 1.5, "a"])
+def test_load_step_fraction_must_be_a_share(value):
+    with pytest.raises((ValueError, TypeError), match="load_step_fraction"):
+        make_loops(2, 200, load_step_fraction=value)

@@ -408,6 +408,7 @@ _DEFAULT_DEFAULTS = {
     "oscillating_fraction": 1.0,
     "setpoint_weights": _REGIME_WEIGHTS,
     "short_fraction": 0.25,
+    "load_step_fraction": 0.0,
     "min_length": 200,
     "warmup": None,  # max(300, n_samples // 5)
 }
@@ -709,6 +710,16 @@ def _default_draws(cause, n_samples, n_warm, ts, opt, rng, profiles, typed):
     if rng.random() < opt["short_fraction"]:
         d["length"] = int(_loguniform(rng, min(opt["min_length"], n_samples), n_samples))
     d["initial_op"] = rng.uniform(15.0, 85.0)
+    # unannounced load steps in the record (feed or supply changes), every cause alike;
+    # drawn last and only when asked for, so that the older worlds keep their draws
+    d["load_steps"] = None
+    if opt["load_step_fraction"] > 0 and rng.random() < opt["load_step_fraction"]:
+        n_steps = int(rng.integers(1, 5))
+        d["load_steps"] = (
+            np.sort(rng.uniform(0.05, 0.95, n_steps)),
+            np.exp(rng.uniform(np.log(0.5), np.log(4.0), n_steps)) * _signs(rng, n_steps),
+            "input" if rng.random() < 0.5 else "output",
+        )
     return d
 
 
@@ -734,6 +745,12 @@ def _default_loop(d, n_samples, n_warm, ts):
     if d["drift"]:
         unit = 2.0 if d["drift_where"] == "input" else nominal
         eff.append(Drift(unit * d["drift_size"], d["drift_segments"], d["drift_where"]))
+    if d["load_steps"] is not None:
+        times, sizes, where = d["load_steps"]
+        unit = 2.0 if where == "input" else nominal
+        for t_frac, size in zip(times, sizes):
+            t_step = ts * round(n_warm + t_frac * d["length"])
+            eff.append(LoadStep(float(unit * size), t_step, where))
     if cause == "external_disturbance":
         where = d["dist_where"]
         amp = (2.0 if where == "input" else nominal) * d["dist_size"][0]
@@ -801,6 +818,7 @@ def _default_loop(d, n_samples, n_warm, ts):
         "noise_colour": d["colour"],
         "noise_path": d["path"],
         "drift": d["drift"],
+        "load_steps": 0 if d["load_steps"] is None else len(d["load_steps"][0]),
         "disturbance": d["disturbance"],
         "setpoint_regime": d["regime"],
         "pv_own_share": own,
@@ -987,6 +1005,7 @@ def make_loops(
     oscillating_fraction=None,
     setpoint_weights=None,
     short_fraction=None,
+    load_step_fraction=None,
     min_length=None,
     warmup=None,
     realism=None,
@@ -1148,6 +1167,13 @@ def make_loops(
         ``sp_change_fraction``.
     short_fraction : float, default 0.25
         Default world only: share of loops with a shortened record.
+    load_step_fraction : float, default 0.0
+        Default world only: share (0-1) of loops, of every cause alike, whose record
+        holds 1-4 unannounced load steps (feed or supply changes, 1-8 % of valve travel
+        at the plant input or as large a PV change at its output, at uniform times in the
+        record): PV leaves its setpoint first, then OP moves to a new level and PV
+        returns. ``meta["load_steps"]`` counts them. Drawn after every other draw and
+        only when the share is above 0, so 0 leaves the world as it was.
     min_length : int, default 200
         Default world only: shortest record (>= 20).
     warmup : int or None, default None
@@ -1223,7 +1249,7 @@ def make_loops(
         "recording": recording, "recording_fraction": recording_fraction,
         "pv_own_share": pv_own_share, "oscillating_fraction": oscillating_fraction,
         "setpoint_weights": setpoint_weights, "short_fraction": short_fraction,
-        "min_length": min_length, "warmup": warmup,
+        "load_step_fraction": load_step_fraction, "min_length": min_length, "warmup": warmup,
     }  # fmt: skip
     defaults = _DEFAULT_DEFAULTS if world == "default" else _CLASSIC_DEFAULTS
     if world == "classic":
@@ -1331,7 +1357,8 @@ def _check_default_options(opt, orders, n_samples, realism):
     if bad:
         raise ValueError(f"recording must be a subset of {_RECORDING_NAMES}; got {rec!r}.")
     opt["recording"] = rec
-    for name in ("recording_fraction", "short_fraction", "oscillating_fraction"):
+    for name in ("recording_fraction", "short_fraction", "oscillating_fraction",
+                 "load_step_fraction"):
         opt[name] = check_positive(opt[name], name, strict=False, upper=1.0)
     opt["pv_own_share"] = _check_range(opt["pv_own_share"], "pv_own_share", lo=0.0, hi=0.95)
     opt["setpoint_weights"] = _check_weights(opt["setpoint_weights"], opt["setpoint_regimes"])

@@ -436,6 +436,16 @@ _ENTRIES = [
         "a setpoint ramp also moves OP; sensor drift moves OP only through the loop.",
     ),
     RealismEffect(
+        "load_steps",
+        "op_load_shifts",
+        "world",
+        "unannounced load steps (feed or supply changes) the loop rejects: OP moves to a new "
+        "level while SP stays (make_loops load_step_fraction, LoadStep in the record)",
+        "setpoint moves shift OP too (shifts near an SP shift are not counted); a cycle's "
+        "swing and a ramp are not shifts; a square OP cycle slower than a tenth of the record "
+        "is.",
+    ),
+    RealismEffect(
         "operating_offset",
         "sp_offset",
         "world",

@@ -16,6 +16,7 @@ import pandas as pd
 from scipy.fft import irfft, next_fast_len, rfft
 
 from .._validation import OP, PV, SP, check_loops
+from ..cycles._level_shifts import level_shifts
 from ..cycles._signal import _stored_noise, drawn_lines, fast_median, fast_percentile
 
 __all__ = ["loop_statistics", "STATISTIC_COLUMNS"]
@@ -76,6 +77,7 @@ STATISTIC_COLUMNS = (
     "spike_size",
     "pv_drift",
     "op_drift",
+    "op_load_shifts",
     "sp_change_fraction",
     "sp_steps",
     "sp_step_size",
@@ -443,6 +445,18 @@ def _drawn(x, span):
     return 1.0 - rows.size / x.size, deviation
 
 
+def _load_shifts(op, sp):
+    """OP level shifts (:func:`~sktiction.cycles._level_shifts.level_shifts`) farther than
+    two of their windows from every SP shift: loads the loop rejected, not setpoint moves."""
+    shifts = level_shifts(op)
+    if not len(shifts):
+        return 0.0
+    sp_moves = sp is not None and np.isfinite(sp).all() and np.ptp(sp) > 0
+    sp_shifts = level_shifts(sp) if sp_moves else np.array([], dtype=int)
+    reach = 2 * max(len(op) // 20, 10)
+    return float(sum(bool(np.all(np.abs(sp_shifts - k) > reach)) for k in shifts))
+
+
 def _one_loop(x, ts):
     """Statistics of one loop ``x`` (n_samples, 3) with the padding already cut."""
     row = dict.fromkeys(STATISTIC_COLUMNS, np.nan)
@@ -522,6 +536,7 @@ def _one_loop(x, ts):
         op_det, op_slope = _detrend(op)
         op_det_span = _span(op_det)
         row["op_drift"] = abs(op_slope) * n / op_det_span if op_det_span > 0 else np.nan
+        row["op_load_shifts"] = _load_shifts(op, sp if has_sp else None)
         max_lag = int(min(n // 4, 3 * period if np.isfinite(period) else n // 4))
         max_lag = max(max_lag, 1)
         xc = _xcorr(det, op_det, max_lag)
@@ -623,6 +638,11 @@ def loop_statistics(X, ts=None):
           ``spike_size``: their median departure, share of the span.
         - ``pv_drift``: linear trend of the error over the record, in units of the detrended
           error's span; ``op_drift``: the same for OP (loads the loop rejects).
+        - ``op_load_shifts``: number of OP level shifts (a window's median moving by more
+          than three interquartile ranges, at most 6) farther than two windows (a tenth of
+          the record) from every SP shift: steps in a load the loop rejected. A cycle's own
+          swing does not count, nor a setpoint move, nor a ramp; a square OP cycle slower
+          than a tenth of the record would.
         - ``sp_change_fraction``: share of samples whose SP changed (cascade setpoints: most);
           ``sp_steps``: number of SP changes when they are at most 20 % of samples (NaN
           otherwise); ``sp_step_size``: median SP change, share of PV span; ``sp_offset``:
