@@ -124,10 +124,11 @@ def test_compare_table_worked_by_hand():
     assert by.loc[c, "effect_size"] == pytest.approx(7 / 16)
     assert by.loc[a, "shift"] == pytest.approx(10 / 1.5)
     assert by.loc[b, "shift"] == pytest.approx(20 / 1.5)
-    # Holm over the 16 finite p-values: the two smallest (equal) times 16
-    p = _p_separated(4)  # 0.0304
-    assert by.loc[a, "p_value"] == pytest.approx(16 * p, rel=1e-9)
-    assert by.loc[b, "p_value"] == pytest.approx(16 * p, rel=1e-9)
+    # Holm over the finite p-values (every effect but d): the two smallest (equal) times
+    # their number, 17 with the 18 effects of the catalog
+    p, m = _p_separated(4), len(EFFECTS) - 1  # 0.0304
+    assert by.loc[a, "p_value"] == pytest.approx(m * p, rel=1e-9)
+    assert by.loc[b, "p_value"] == pytest.approx(m * p, rel=1e-9)
     assert not table["significant"].any()
     assert np.isnan(by.loc[d, ["measured", "effect_size", "p_value", "shift"]].astype(float)).all()
     assert by.loc[d, "simulated"] == 2.5
@@ -144,12 +145,13 @@ def test_compare_table_worked_by_hand():
 
 
 def test_compare_significance_at_the_given_alpha():
-    """Ten loops a side all apart: raw p 1.827e-4, times 17 effects 3.105e-3: significant
-    at 0.05 and 0.00311, not at 0.0031; ``significant`` is ``p_value < alpha``."""
+    """Ten loops a side all apart: raw p 1.827e-4, times the 18 effects 3.289e-3:
+    significant at 0.05 and 0.00329, not at 0.00328; ``significant`` is ``p_value < alpha``."""
     a = STAT["hold_last_value"]
     sim, meas = _table(10, **{a: np.arange(10.0)}), _table(10, **{a: np.arange(10.0) + 10})
-    p = 17 * _p_separated(10)
-    for alpha, expected in [(0.05, True), (0.00311, True), (0.0031, False)]:
+    p = len(EFFECTS) * _p_separated(10)
+    assert 0.00328 < p < 0.00329
+    for alpha, expected in [(0.05, True), (0.00329, True), (0.00328, False)]:
         table = compare(sim, meas, alpha=alpha, domain=False)
         row = table.iloc[0]
         assert row["statistic"] == a and row["p_value"] == pytest.approx(p, rel=1e-9)
