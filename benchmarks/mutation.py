@@ -226,6 +226,10 @@ TARGETED = {
     "sktiction/simulation/disturbances.py": [
         "tests/test_simulation.py", "tests/test_disturbances_known_answers.py",
     ],
+    "sktiction/simulation/plants.py": [
+        "tests/test_simulation.py", "tests/test_controllers.py", "tests/test_valves.py",
+        "tests/test_plants_known_answers.py",
+    ],
     # test_cleaning.py without the four tests that scan with the pretrained model or
     # write and scan files (15-55 s each), and the known answers
     "sktiction/_cleaning.py": [
