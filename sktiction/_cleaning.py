@@ -31,6 +31,15 @@ and by every classifier (:func:`as_judged`).
   of them sticky; no verdict changed).
 - **Gaps**: NaN inside a record, bridged when short; past a long one the longest stretch
   is kept (:func:`~sktiction._validation.repair_gaps`).
+- **Tags exported stepped**: a compressing historian (deadband or swinging door) stores a
+  tag only when it has moved, and an export that holds each stored value until the next
+  one moves PV and OP at times of their own. Sample by sample the loop then looks as if
+  PV ignored OP, and OP's flat stretches pass for a stuck valve: the third simulator's
+  stepped exports were judged at balanced accuracy 0.51 with a quarter refused, its
+  interpolated exports of the same points at 0.57. Such a tag (held on a fifth of its
+  steps and on a tenth of those where the other tag moves, over many runs, its levels on
+  no grid) is redrawn through its stored points, as an interpolated export shows it
+  (:func:`~sktiction.cycles._signal.lines_through_changes`).
 """
 
 from __future__ import annotations
@@ -44,7 +53,12 @@ from ._validation import (
     loop_lengths,
     repair_gaps,
 )
-from .cycles._signal import fast_percentile, robust_spread
+from .cycles._signal import (
+    fast_percentile,
+    lines_through_changes,
+    on_grid_share,
+    robust_spread,
+)
 
 #: Widest spike removed, in samples.
 MAX_SPIKE_WIDTH = 3
@@ -70,6 +84,20 @@ MAX_PLACEHOLDER_SHARE = 0.45
 MIN_HOLD_CHANGES = 20
 #: Fewest distinct values for one channel alone on a grid to be a slower tag's record.
 _MIN_LEVELS = 8
+#: A tag exported stepped repeats its last value on at least this share of its steps ...
+_STEPPED_HELD = 0.2
+#: ... and on at least this share of the steps in which the other tag moves (a historian
+#: holding whole rows holds both at once) ...
+_STEPPED_APART = 0.1
+#: ... and its levels lie on no grid: at most this share of them are a whole number of
+#: its smallest jump from the first (a quantised tag's all are) ...
+_STEPPED_ON_GRID = 0.5
+#: ... over at least this many changes, ...
+_STEPPED_CHANGES = 10
+#: ... with no one run holding more than this share of the held steps, ...
+_STEPPED_LONGEST = 0.5
+#: ... and at most this share of its runs held at a level an earlier run held.
+_STEPPED_REVISITS = 0.5
 
 
 def _spike_limit(x, d):
@@ -556,8 +584,67 @@ def in_step(loops, align=True):
 #: and placeholder samples read as gaps.
 GAP_COLUMNS = (
     "n_bridged", "n_gaps_split", "kept_start", "kept_stop", "n_spikes", "rows_per_value",
-    "n_placeholders",
+    "n_placeholders", "stepped_tags",
 )  # fmt: skip
+
+
+def exported_stepped(x, other):
+    """Whether tag ``x`` (1-D, finite) was exported stepped by a compressing historian,
+    next to ``other``, the loop's other tag (same length): held on a fifth of its steps
+    and on a tenth of those in which ``other`` moves, over many runs (no one run holds half
+    of the held steps: a manual stretch is not an export), each run at a level of its own
+    (a noise-free square cycle holds a few in turn), its levels on no grid (a quantised
+    tag's are a whole number of grid steps apart).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction._cleaning import exported_stepped
+    >>> rng = np.random.default_rng(0)
+    >>> walk = np.cumsum(rng.normal(size=400))
+    >>> stepped = np.repeat(walk[::4], 4)  # each stored value held for 4 rows
+    >>> bool(exported_stepped(stepped, walk)), bool(exported_stepped(walk, stepped))
+    (True, False)
+    >>> bool(exported_stepped(np.round(stepped), walk))  # on a grid of 1: quantised
+    False
+    """
+    held = np.diff(x) == 0
+    if held.mean() < _STEPPED_HELD:
+        return False
+    other_moves = np.diff(other) != 0
+    if not other_moves.any() or held[other_moves].mean() < _STEPPED_APART:
+        return False
+    jumps = np.abs(np.diff(x))[~held]
+    if jumps.size < _STEPPED_CHANGES:
+        return False
+    # one stretch held for most of the record (manual mode, a trip) is no export's doing
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], held.astype(np.int8), [0]])))
+    if np.max(edges[1::2] - edges[::2]) > _STEPPED_LONGEST * held.sum():
+        return False
+    # each run held at a level of its own: a noise-free square cycle holds a few in turn
+    run_levels = x[edges[::2]]
+    if 1.0 - np.unique(run_levels).size / run_levels.size > _STEPPED_REVISITS:
+        return False
+    levels = x[1:][~held]
+    return on_grid_share(levels - levels[0], jumps.min()) <= _STEPPED_ON_GRID
+
+
+def _redraw_stepped(loops, idx):
+    """Redraw, in place, the PV and OP of loops ``idx`` that were exported stepped
+    (:func:`exported_stepped`) as lines through their stored points, runs at a tag's
+    lowest or highest value kept flat; the number of tags redrawn per loop (0-2)."""
+    counts = np.zeros(len(idx))
+    for j, (i, n) in enumerate(zip(idx, loop_lengths(loops[idx]))):
+        pv, op = loops[i, :n, 0], loops[i, :n, 1]
+        if n < 3 or not (np.isfinite(pv).all() and np.isfinite(op).all()):
+            continue
+        stepped = exported_stepped(pv, op), exported_stepped(op, pv)
+        for channel, redraw in enumerate(stepped):
+            if redraw:
+                # runs at the extremes stay flat: a saturated OP is no export's doing
+                loops[i, :n, channel] = lines_through_changes(loops[i, :n, channel], True)
+        counts[j] = sum(stepped)
+    return counts
 
 
 def _undo_artefacts(loops, idx, lengths):
@@ -588,7 +675,9 @@ def repaired(loops, max_gap, usable=None):
     2. spikes (1-3 samples far from both neighbours) are replaced by a straight line;
     3. placeholders for missing data written as numbers (-9999 for a stretch) become gaps;
     4. short gaps are bridged and the longest stretch kept
-       (:func:`~sktiction._validation.repair_gaps`).
+       (:func:`~sktiction._validation.repair_gaps`);
+    5. a tag exported stepped by a compressing historian is redrawn through its stored
+       points (:func:`exported_stepped`).
 
     Loops that hold inf (they get not_finite) or are not ``usable`` are left as they are;
     gap-free loops skip ``repair_gaps`` with the answer it would give.
@@ -619,6 +708,7 @@ def repaired(loops, max_gap, usable=None):
     gaps[idx, 3] = np.where(stop > start, np.minimum(phase + step * stop, lengths_in),
                             gaps[idx, 2])
     gaps[idx, 4], gaps[idx, 5], gaps[idx, 6] = spikes, step, placeholders
+    gaps[idx, 7] = _redraw_stepped(loops, idx)
     return loops, gaps
 
 
@@ -635,12 +725,15 @@ def clean_loops(X, *, max_gap="auto", align=True):
     2. spikes of 1-3 samples replaced by a straight line;
     3. placeholders for missing data written as numbers (-9999 for a stretch) read as gaps;
     4. short gaps bridged and, past a long one, the longest stretch kept;
-    5. a start-up transient dropped: an excursion of PV or OP at the record's start,
+    5. PV or OP exported stepped by a compressing historian (held on many rows, moving
+       at times of its own, its levels on no grid) redrawn as straight lines through
+       the stored points, as an interpolated export shows them;
+    6. a start-up transient dropped: an excursion of PV or OP at the record's start,
        beyond the 0.5-99.5 % range of the rest by more than that range and over within
        the first 5 % of the rows, as in a simulator started from rest (at most a tenth
        of the record; kept when a recorded setpoint moves across those rows, as in a
        setpoint response);
-    6. with ``align``, OP moved one row back in line with PV where its increments fit a
+    7. with ``align``, OP moved one row back in line with PV where its increments fit a
        controller's clearly better that way. One row at most: an OP one row out of step
        is moved back, and a second call leaves it; one two or more rows out is not
        reliably aligned.
@@ -659,7 +752,7 @@ def clean_loops(X, *, max_gap="auto", align=True):
         kept); ``"auto"`` as :func:`sktiction.reports.scan_loops` reads it: per loop, a gap
         whose bridge spans at most 1/16 of PV's period, at most 5 % of the record.
     align : bool, default=True
-        Move OP in line with PV (step 6).
+        Move OP in line with PV (step 7).
 
     Returns
     -------
@@ -671,8 +764,9 @@ def clean_loops(X, *, max_gap="auto", align=True):
         ``kept_stop`` (the stretch gap repair kept, in ``X``'s rows; moving OP leaves
         out one more row at one end), ``n_spikes`` (samples
         replaced, all channels), ``rows_per_value`` (``k``; 1 when nothing was held),
-        ``n_placeholders``, ``startup_rows`` (rows of a start-up transient dropped
-        from the start, counted after a hold is undone: rows as read, each ``k`` of
+        ``n_placeholders``, ``stepped_tags`` (PV and OP redrawn: 0-2), ``startup_rows``
+        (rows of a start-up transient dropped from the start, counted after a hold is
+        undone: rows as read, each ``k`` of
         ``X``'s; 0 when none) and ``op_shift`` (rows OP was moved; 0 when not).
 
     Raises
@@ -721,10 +815,14 @@ def as_judged(loops, *, training=False):
     verdicts, one lost sample a loop its verdict), then a start-up transient dropped and
     each OP moved in line with its PV (:func:`in_step`). ``loops`` itself is left as it is.
 
-    With ``training``, only gaps are repaired: simulated training loops are read as made.
-    In the default model's 1,420 the spike rule finds a spike in 7 and the alignment would
-    move 10, none of them real, and the model stays the one its figures were measured with.
+    With ``training``, only gaps are repaired and stepped exports redrawn: simulated
+    training loops are otherwise read as made. In the default model's 1,420 the spike rule
+    finds a spike in 7 and the alignment would move 10, none of them real. Stepped tags
+    are redrawn in training too, so that the model learns compressed loops as it reads
+    them.
     """
     if training:
-        return loops if gap_free_lengths(loops) is not None else repair_gaps(loops)[0]
+        loops = loops if gap_free_lengths(loops) is not None else repair_gaps(loops)[0]
+        redrawn = np.array(loops, dtype=float)
+        return redrawn if _redraw_stepped(redrawn, np.arange(len(loops))).any() else loops
     return _repaired_in_step(loops, "auto")[0]

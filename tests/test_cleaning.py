@@ -727,7 +727,8 @@ def test_repaired_fills_absent_channels_with_nan(k):
 
 def test_as_judged_reads_loops_as_clean_loops_and_training_repairs_gaps_only():
     """A classifier reads what clean_loops returns (its docstring says so); in training
-    only gaps are repaired: a spike stays, a gap-free loop is returned as it is."""
+    only gaps are repaired (and stepped exports redrawn, tests/test_stepped_exports.py): a
+    spike stays, a gap-free loop is returned as it is."""
     X = check_loops(make_loops(3, n_samples=600, world="classic", random_state=5)[0])
     dirty = X.copy()
     dirty[:, 300, 0] = -9999.0

@@ -341,14 +341,15 @@ def test_scan_loops_bridges_gaps_as_scan_files_does_unless_told_not_to(small_lea
     plain = scan_loops(X, classifier=small_learned, max_gap=None)
     assert plain["status"].tolist()[:3] == ["nan_gap", "nan_gap", "not_finite"]
     report = scan_loops(X, classifier=small_learned, chunk_size=3)  # max_gap="auto"
-    assert list(report.columns[:7]) == ["n_bridged", "n_gaps_split", "kept_start", "kept_stop",
-                                        "n_spikes", "rows_per_value", "n_placeholders"]
+    assert list(report.columns[:8]) == ["n_bridged", "n_gaps_split", "kept_start", "kept_stop",
+                                        "n_spikes", "rows_per_value", "n_placeholders",
+                                        "stepped_tags"]  # fmt: skip
     assert report["status"].tolist() == ["ok", "ok", "not_finite", "ok"]
     assert report.loc[0, "n_bridged"] == 1 and report.loc[1, "kept_start"] == 700
     assert np.isnan(report.loc[2, "n_bridged"])
     fixed, _ = repair_gaps(np.delete(X, 2, axis=0))
     expected = scan_loops(fixed, classifier=small_learned, max_gap=None)
-    kept = report.drop(index=2).drop(columns=report.columns[:7]).reset_index(drop=True)
+    kept = report.drop(index=2).drop(columns=report.columns[:8]).reset_index(drop=True)
     pd.testing.assert_frame_equal(kept, expected, check_dtype=False)
     with pytest.raises(ValueError):
         scan_loops(X, classifier=small_learned, max_gap=-1)

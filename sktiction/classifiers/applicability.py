@@ -59,7 +59,7 @@ import pandas as pd
 from numpy.lib.stride_tricks import sliding_window_view
 
 from .._validation import OP, PV, SP, STATUS_EMPTY, STATUS_NAN_GAP, STATUS_OK, STATUS_TOO_SHORT
-from ..cycles._signal import fast_percentile, robust_spread, stored_points
+from ..cycles._signal import fast_percentile, on_grid_share, robust_spread, stored_points
 from ..realism.statistics import _repeat_fractions
 
 __all__ = [
@@ -156,9 +156,7 @@ def _quantisation_snr_db(x):
     if len(step) < 2:
         return -np.inf
     q = step.min()
-    ratio = step / q
-    on_grid = np.mean(np.abs(ratio - np.round(ratio)) < _GRID_TOLERANCE)
-    if on_grid < _GRID_SHARE:
+    if on_grid_share(step, q, _GRID_TOLERANCE) < _GRID_SHARE:
         return np.inf
     q1, q3 = fast_percentile(x, [25, 75])
     sd = (q3 - q1) / 1.349

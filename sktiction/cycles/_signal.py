@@ -249,9 +249,30 @@ def drawn_lines(x, d2=None):
     return rows if rows is not None and rows.size >= _MIN_STORED else None
 
 
-def lines_through_changes(x):
+def on_grid_share(values, step, tolerance=0.05):
+    """Share of ``values`` (at least one) that are whole multiples of ``step``, within
+    ``tolerance`` of it: the changes or the levels of a quantised tag all are; a
+    compressed tag's, which land wherever the signal was when it passed its band, are
+    not.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.cycles._signal import on_grid_share
+    >>> on_grid_share(np.array([0.5, 1.0, 1.5, -0.5]), 0.5)
+    1.0
+    >>> on_grid_share(np.array([1.0, 1.3, 1.7, 2.45]), 1.0)
+    0.25
+    """
+    ratio = values / step
+    return float(np.mean(np.abs(ratio - np.round(ratio)) < tolerance))
+
+
+def lines_through_changes(x, hold_extremes=False):
     """``x`` (1-D, finite) drawn as straight lines through the samples where it takes a
-    new value; ``x`` itself when no sample repeats its predecessor.
+    new value; ``x`` itself when no sample repeats its predecessor. With
+    ``hold_extremes``, a run at ``x``'s lowest or highest value stays flat (a saturated
+    OP, a clipped PV, a cycle's held top) and the line leaves it at its last row.
 
     A compressing historian exported stepped (each stored value held until the next)
     moves a tag only at the points it stored, at times of its own for each tag, so the
@@ -264,12 +285,19 @@ def lines_through_changes(x):
     >>> from sktiction.cycles._signal import lines_through_changes
     >>> lines_through_changes(np.array([0.0, 0.0, 0.0, 3.0, 3.0, 1.0])).tolist()
     [0.0, 1.0, 2.0, 3.0, 2.0, 1.0]
+    >>> lines_through_changes(np.array([0.0, 0.0, 0.0, 3.0, 3.0, 1.0]), True).tolist()
+    [0.0, 0.0, 0.0, 3.0, 3.0, 1.0]
+    >>> lines_through_changes(np.array([0.0, 2.0, 2.0, 3.0, 3.0, 1.0]), True).tolist()
+    [0.0, 2.0, 2.5, 3.0, 3.0, 1.0]
     """
     x = np.asarray(x, dtype=float)
     moved = np.flatnonzero(np.diff(x) != 0) + 1
     if moved.size == x.size - 1:
         return x
-    rows = np.unique(np.concatenate([[0], moved, [x.size - 1]]))
+    rows = [[0], moved, [x.size - 1]]
+    if hold_extremes:  # the last row of each run at the lowest or highest value, too
+        rows.append(moved[(x[moved - 1] == x.min()) | (x[moved - 1] == x.max())] - 1)
+    rows = np.unique(np.concatenate(rows))
     return np.interp(np.arange(x.size), rows, x[rows])
 
 

@@ -78,8 +78,8 @@ def _read(path, channels, ts, max_gap):
 
 def _note_repairs(row):
     """Say in the loop's input notes what the scan changed before analysing it: a hold
-    undone (and the sample time it implies), spikes replaced, placeholders read as gaps, a
-    stretch left out."""
+    undone (and the sample time it implies), spikes replaced, placeholders read as gaps,
+    stepped tags redrawn, a stretch left out."""
     step, spikes = row["rows_per_value"], row["n_spikes"]
     start, stop, n = row["kept_start"], row["kept_stop"], row.get("n_samples", np.nan)
     notes = [row["reason"]] if row.get("reason") else []
@@ -96,6 +96,11 @@ def _note_repairs(row):
         notes.append(f"{placeholders:.0f} sample{'s' if placeholders > 1 else ''} holding a "
                      "placeholder for missing data (a value far outside the others', such as "
                      "-9999) read as gaps")
+    stepped = row.get("stepped_tags", 0)
+    if stepped > 0:
+        notes.append(f"{'PV and OP' if stepped > 1 else 'one tag'} exported stepped (held "
+                     "between the points a compressing historian stored): redrawn as lines "
+                     "through those points")
     if np.isfinite(start) and (start > 0 or stop < n):
         notes.append(f"analysed rows {start + 1:.0f}-{stop:.0f} of {n:.0f}: the longest "
                      "stretch between gaps too long to bridge")
@@ -223,8 +228,8 @@ def scan_files(
         One row per loop, in file order, reader's columns first (its ``status`` and
         ``reason`` as ``input_status``, ``input_reason``, which also says what was
         repaired; with repair also ``n_bridged``, ``n_gaps_split``, ``kept_start``,
-        ``kept_stop`` (input rows), ``n_spikes``, ``rows_per_value`` and
-        ``n_placeholders``, and ``ts`` is
+        ``kept_stop`` (input rows), ``n_spikes``, ``rows_per_value``,
+        ``n_placeholders`` and ``stepped_tags``, and ``ts`` is
         the sample time of the rows read), then the
         columns of :func:`scan_loops`. A file that cannot be read, or is not a loop
         file, gets one row with ``status = "unreadable"`` and the reader's reason.

@@ -537,9 +537,10 @@ def scan_loops(
         classifier do (:func:`~sktiction._cleaning.repaired`): a regular hold is read one
         row in k, spikes are replaced, placeholders (-9999 for a stretch) read as gaps,
         short gaps bridged (up to ``max_gap`` samples; ``"auto"``: 1/16 of the loop's
-        period) and the longest stretch kept; the report then has ``n_bridged``,
-        ``n_gaps_split``, ``kept_start``, ``kept_stop`` (input rows), ``n_spikes``,
-        ``rows_per_value`` and ``n_placeholders``, and a ``ts`` column from ``meta`` is
+        period), the longest stretch kept and tags exported stepped redrawn through their
+        stored points; the report then has ``n_bridged``, ``n_gaps_split``,
+        ``kept_start``, ``kept_stop`` (input rows), ``n_spikes``, ``rows_per_value``,
+        ``n_placeholders`` and ``stepped_tags``, and a ``ts`` column from ``meta`` is
         the sample time of the rows read. ``None`` repairs nothing: NaN gaps inside a
         record stay (the loop gets ``nan_gap``, with a warning).
 
