@@ -37,8 +37,9 @@ and by every classifier (:func:`as_judged`).
   PV ignored OP, and OP's flat stretches pass for a stuck valve: the third simulator's
   stepped exports were judged at balanced accuracy 0.51 with a quarter refused, its
   interpolated exports of the same points at 0.57. Such a tag (held on a fifth of its
-  steps and on a tenth of those where the other tag moves, over many runs, its levels on
-  no grid) is redrawn through its stored points, as an interpolated export shows it
+  steps and on a tenth of those where the other tag moves, over many runs each at a level
+  of its own, its levels on no grid: :func:`exported_stepped`) is redrawn through its
+  stored points, as an interpolated export shows it, runs at its extremes kept flat
   (:func:`~sktiction.cycles._signal.lines_through_changes`).
 """
 
@@ -580,8 +581,8 @@ def in_step(loops, align=True):
 
 #: What input repair (:func:`repaired`) reports per loop: gap repair's
 #: (:func:`~sktiction._validation.repair_gaps`; ``kept_start``, ``kept_stop`` index the
-#: input's rows), spike samples replaced, rows per stored value (a regular hold undone)
-#: and placeholder samples read as gaps.
+#: input's rows), spike samples replaced, rows per stored value (a regular hold undone),
+#: placeholder samples read as gaps and tags redrawn through their stored points.
 GAP_COLUMNS = (
     "n_bridged", "n_gaps_split", "kept_start", "kept_stop", "n_spikes", "rows_per_value",
     "n_placeholders", "stepped_tags",
