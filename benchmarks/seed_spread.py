@@ -29,8 +29,9 @@ prints the change from the recipe alone: does a second simulator bring the model
 the plants? ``--loops=N`` also trains each draw's recipe on ``N`` simulated loops instead of
 1,500 and prints the paired change: does more of the simulator carry over?
 ``--without=PREFIX`` also trains each draw's recipe without the model columns whose names
-start with ``PREFIX`` (e.g. ``valve_model__multiscale``) and prints the change from leaving
-them out: what a group of features brings, draw by draw.
+start with ``PREFIX`` (e.g. ``valve_model__multiscale``; several prefixes separated by
+commas, a name ending in ``$`` matched exactly) and prints the change from leaving them
+out: what a group of features brings, draw by draw.
 """
 
 import sys
@@ -144,16 +145,24 @@ def _with_second_simulator(seed, X, y, n_loops=600):
     return np.concatenate(pad), np.concatenate([y, y2])
 
 
+def _named(columns, spec):
+    """Columns named by ``spec``: comma-separated prefixes; one ending in ``$`` names a
+    column exactly (``hysteresis__stuck_share$`` without ``hysteresis__stuck_share_slow``)."""
+    parts = [p for p in spec.split(",") if p]
+    return [c for c in columns
+            if any(c == p[:-1] if p.endswith("$") else c.startswith(p) for p in parts)]
+
+
 def _without(prefix, seed):
-    """The recipe's classifier, untrained, whose model columns named ``prefix...`` are
-    blanked (0 everywhere: a constant neither the booster nor the logistic model can use;
-    an all-NaN column would stop the booster's binning) in training and in every verdict,
-    the evaluation sets' shared features included."""
+    """The recipe's classifier, untrained, whose model columns named by ``prefix`` (see
+    :func:`_named`) are blanked (0 everywhere: a constant neither the booster nor the
+    logistic model can use; an all-NaN column would stop the booster's binning) in
+    training and in every verdict, the evaluation sets' shared features included."""
     recipe = make_learned_classifier(random_state=seed, n_jobs=2)
 
     def blank(feats):
         feats = feats.copy()
-        feats[[c for c in feats.columns if c.startswith(prefix)]] = 0.0
+        feats[_named(feats.columns, prefix)] = 0.0
         return feats
 
     class Without(type(recipe)):
@@ -201,7 +210,7 @@ def main(n_draws=10, first=0, compare=False, control=False, second=False, loops=
                            **_scores(more, sets)})  # fmt: skip
         if without:
             less = _without(without, seed).fit(X, y)
-            assert any(c.startswith(without) for c in less.feature_names_), without
+            assert _named(less.feature_names_, without), without
             ablated.append({**rows[-1], "training": "recipe"})
             ablated.append({"draw": seed, "training": f"recipe without {without}*",
                             **_scores(less, sets)})  # fmt: skip

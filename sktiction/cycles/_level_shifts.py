@@ -21,6 +21,9 @@ MAX_SHIFTS = 6
 #: Multiples of the windows and gap tried in turn: a transition lagged by a slow
 #: response or a filter needs a wider gap.
 SCALES = (1, 2, 4)
+#: A shift found only by searching either side of a stretch's best split must be this many
+#: times as clear: that search tests more points, so chance passes more often.
+HALF_RATIO = 2.0
 
 
 def _windows(n):
@@ -39,12 +42,10 @@ def _best_shift(s, w, g, ratio):
     """Where a level shift in ``s`` most likely is (the CUSUM's extreme) and how many
     window spreads it measures, by the tests of :func:`level_shifts` with windows of
     ``w`` samples ``g`` samples off the point; ``None`` when it is not a shift."""
-    n = s.size
     short = max(w // 4, 5)  # a window cut short by the stretch's end
-    if n < 2 * (short + g):
+    if s.size < 2 * (short + g):
         return None
-    c = np.cumsum(s - s.mean())
-    k = int(np.argmax(np.abs(c[short + g - 1 : n - short - g]))) + short + g  # left: s[:k]
+    k = _best_split(s, short + g)  # left: s[:k]
     before, after = s[max(0, k - g - w) : k - g], s[k + g : k + g + w]
     change = fast_median(after) - fast_median(before)
     spread = max(_iqr(before), _iqr(after))
@@ -57,13 +58,20 @@ def _best_shift(s, w, g, ratio):
     return k, abs(change) / max(spread, 1e-12 * abs(change))  # a flat step: 1e12, not inf
 
 
+def _best_split(s, margin):
+    """The extreme of the cumulative sum of ``s`` about its mean, at least ``margin``
+    samples from either end: the best single split of ``s`` into two levels."""
+    c = np.cumsum(s - s.mean())
+    return int(np.argmax(np.abs(c[margin - 1 : s.size - margin]))) + margin
+
+
 def _drift(y):
     """Change of the median from the first half of ``y`` to the second."""
     h = y.size // 2
     return abs(fast_median(y[h:]) - fast_median(y[:h]))
 
 
-def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS):
+def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS, stairs=True):
     """Sample indices where the level of a signal shifts, as an operator move or a
     load change shifts it, and a cycle would not.
 
@@ -87,7 +95,13 @@ def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS):
 
     with windows and gap twice and four times as wide tried in turn (a transition
     lagged by a slow response). The stretches on either side are then searched again,
-    up to ``max_shifts`` shifts.
+    up to ``max_shifts`` shifts. Where three or more levels climb as stairs, or two
+    shifts lie close, the best single split falls on a level between them, where no
+    window test passes; so a stretch in which no shift is found is split there once
+    (``stairs``) and each side searched, for a shift :data:`HALF_RATIO` times as
+    clear. On the oscillation benchmark (seeds 0-2, 900 records per class) the cycles
+    under level steps found rose from 0.931 to 0.959, and the random walks with a
+    shift from 23.4 % to 25.4 % (without the stricter ratio: 0.964 and 44.7 %).
 
     Parameters
     ----------
@@ -97,6 +111,9 @@ def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS):
         Size a shift must exceed, in interquartile ranges of the windows beside it.
     max_shifts : int, default=6
         Most shifts returned.
+    stairs : bool, default=True
+        Search either side of a stretch's best split once when no shift is found
+        there (see above); ``False``: binary segmentation alone.
 
     Returns
     -------
@@ -116,22 +133,32 @@ def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS):
     """
     x, _ = unit_scaled(np.asarray(x, dtype=float))  # cumulative sums near 1e307
     w, g = _windows(x.size)
-    found, stretches, done = [], [(0, x.size)], set()
+    margin = max(w // 4, 5) + g  # the shortest stretch searched is twice this
+    found, stretches, done, halves = [], [(0, x.size)], set(), set()
     while len(found) < max_shifts:
         best = None
-        for a, b in stretches:
+        for a, b in list(stretches):
             if (a, b) in done:
                 continue
+            need = ratio * (HALF_RATIO if (a, b) in halves else 1.0)
             for scale in SCALES:  # wider windows and gaps pass lagged transitions
-                shift = _best_shift(x[a:b], scale * w, scale * g, ratio)
+                shift = _best_shift(x[a:b], scale * w, scale * g, need)
                 if shift is not None:
                     break
-            if shift is None:
-                done.add((a, b))
-            elif best is None or shift[1] > best[1]:
-                best = (a + shift[0], shift[1], (a, b))
+            if shift is not None:
+                if best is None or shift[1] > best[1]:
+                    best = (a + shift[0], shift[1], (a, b))
+                continue
+            done.add((a, b))
+            if stairs and (a, b) not in halves and b - a >= 4 * margin:
+                k = a + _best_split(x[a:b], margin)  # searched either side, not a shift
+                stretches.remove((a, b))
+                stretches += [(a, k), (k, b)]
+                halves.update(stretches[-2:])
         if best is None:
-            break
+            if all(st in done for st in stretches):
+                break
+            continue
         t, _, (a, b) = best
         stretches.remove((a, b))
         stretches += [(a, t), (t, b)]
