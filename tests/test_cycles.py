@@ -351,10 +351,12 @@ def test_smoothing_is_as_wide_as_the_noise_needs():
     assert np.array_equal(analyze_cycles(walk).smooth, analyze_cycles(walk).centred)
 
 
-@pytest.mark.parametrize("scale", [1e-300, 1e-13, 1e-6, 1e6, 1e300])
+@pytest.mark.parametrize("scale", [1e-300, 1e-13, 1e-6, 1e6, 1e300, 4e306])
 def test_scale_and_offset_change_nothing(scale):
     # values near 1e±300 too: read in units near 1, no overflow or underflow (a warning
-    # is an error here), and the level shift of the third record is found at any scale
+    # is an error here), and the level shift of the third record is found at any scale;
+    # at 4e306 the third record reaches 1.8e308, above 2**1023 (2**1024 overflowed, and
+    # the record, divided by inf, read as zeros)
     t = np.arange(2000)
     rng = np.random.default_rng(0)
     noisy = 0.5 * np.sign(np.sin(2 * np.pi * t / 100)) + rng.normal(0, 0.01, t.size)

@@ -14,6 +14,7 @@ from sktiction.cycles._level_shifts import (
     _drift,
     _iqr,
     _windows,
+    clipped_excursions,
     level_shifts,
     without_level_shifts,
 )
@@ -238,3 +239,46 @@ def test_a_shift_found_beside_the_best_split_must_be_twice_as_clear(monkeypatch)
     monkeypatch.setattr("sktiction.cycles._level_shifts.HALF_RATIO", 1.0)
     loose = sum(found(thirds(6.0, s)) for s in range(10))
     assert strict <= 10 and loose == 20  # of 20 steps: 4 and 20 as built
+
+
+@pytest.mark.parametrize(
+    "where",
+    [
+        slice(700, 730),  # an operator's bump of 25 amplitudes, narrower than the windows
+        slice(1470, None),  # a step of 15 in the last 2 %, where no shift is searched
+        slice(None, 30),  # and in the first 2 %
+    ],
+)
+def test_an_excursion_that_is_no_level_shift_is_clipped_for_the_second_reading(where):
+    # a cycle of period 50 (amplitude 1, noise 0.2) in 1,500 samples: no shift is found,
+    # and read as it is, the code before the clipping found none of these cycles
+    t = np.arange(1500)
+    bump = np.zeros(1500)
+    bump[where] = 25.0 if where.start == 700 else 15.0
+    for seed in range(10):
+        rng = np.random.default_rng(seed)
+        x = np.sin(2 * np.pi * t / 50) + rng.normal(0, 0.2, 1500) + bump
+        assert level_shifts(x).size == 0
+        clipped = clipped_excursions(x)
+        assert clipped is not None and clipped.max() < 4 and clipped.min() > -4
+        a = analyze_cycles(x)
+        assert a.oscillating and abs(a.periods[0] - 50) < 2 and a.level_shifts.size == 0
+        # white noise with the same excursion: clipped, and still not oscillating
+        quiet = rng.normal(0, 1, 1500) + bump
+        assert clipped_excursions(quiet) is not None
+        assert not analyze_cycles(quiet).oscillating
+
+
+def test_only_excursions_beyond_the_far_out_fences_are_clipped():
+    rng = np.random.default_rng(5)
+    # Gaussian noise passes the far-out fences on about 2 samples in a million
+    assert all(clipped_excursions(rng.normal(size=5000)) is None for _ in range(20))
+    t = np.arange(2000)
+    assert clipped_excursions(np.sin(2 * np.pi * t / 40)) is None  # a sine stays inside
+    # quartiles 0 and 1 (IQR 1): far-out fences at -3 and 4, inner ones at -1.5 and 2.5;
+    # 10 of 1,000 samples at 5 are more than 0.5 % of the record, 5 of them are not
+    x = np.r_[np.zeros(495), np.ones(495), np.full(10, 5.0)]
+    np.testing.assert_array_equal(clipped_excursions(x), np.minimum(x, 2.5))
+    assert clipped_excursions(np.r_[np.zeros(498), np.ones(497), np.full(5, 5.0)]) is None
+    # half a record on one value has no spread to call anything far
+    assert clipped_excursions(np.r_[np.zeros(600), np.arange(400.0)]) is None

@@ -5,7 +5,9 @@ into bin k of the periodogram, against (A n / 2)**2 for a cycle of amplitude A
 there, and into the band around the cycle that its ACF is read from: a
 production-rate change 10-50 times a cycle's amplitude hides most cycles that the eye
 sees at once (``benchmarks/bench_oscillation.py --level-steps``). Where a record that
-shows no oscillation holds such shifts, it is read again without them.
+shows no oscillation holds such shifts, it is read again without them; where it holds
+none but has an excursion (a bump, a step at the record's very end), again with that
+clipped.
 """
 
 from __future__ import annotations
@@ -24,6 +26,9 @@ SCALES = (1, 2, 4)
 #: A shift found only by searching either side of a stretch's best split must be this many
 #: times as clear: that search tests more points, so chance passes more often.
 HALF_RATIO = 2.0
+#: Share of a record beyond Tukey's far-out fences that makes an excursion worth clipping
+#: for a second reading (see clipped_excursions).
+EXCURSION_SHARE = 0.005
 
 
 def _windows(n):
@@ -200,8 +205,9 @@ def without_level_shifts(x):
 
 def read_without_shifts(x, read, oscillates):
     """``read(x)``, or, when that reading does not oscillate and ``x`` holds level
-    shifts, ``read`` of ``x`` without them if that one oscillates: the second reading of
-    :func:`~sktiction.cycles.analyze_cycles` and
+    shifts, ``read`` of ``x`` without them if that one oscillates (without shifts but with
+    excursions, of ``x`` with them clipped: :func:`clipped_excursions`): the second reading
+    of :func:`~sktiction.cycles.analyze_cycles` and
     :func:`~sktiction.cycles.detect_oscillations`.
 
     Returns
@@ -215,9 +221,32 @@ def read_without_shifts(x, read, oscillates):
     if oscillates(first) or not np.isfinite(x).all():  # a gap inside a loop: NaN features
         return first, np.empty(0, dtype=int)
     flat, shifts = without_level_shifts(x)
-    if shifts.size:
+    if not shifts.size:
+        flat = clipped_excursions(x)
+    if flat is not None:
         second = read(flat)
         if oscillates(second):
             return second, shifts
     return first, np.empty(0, dtype=int)
+
+
+def clipped_excursions(x):
+    """``x`` clipped to Tukey's inner fences (1.5 interquartile ranges beyond the
+    quartiles) when more than :data:`EXCURSION_SHARE` of it lies beyond the far-out
+    fences (3 ranges), else None.
+
+    An excursion that is no level shift hides a cycle as a shift does: an operator's bump
+    (two opposite steps closer than the shift windows), a step within the outer 3.75 % of
+    the record, where no shift is searched. A cycle lies within the inner fences (a sine's
+    are 2.8 amplitudes from its median), and Gaussian noise passes the far-out fences on
+    two samples in a million, so only excursions are clipped.
+    """
+    q1, q3 = fast_percentile(x, [25, 75])
+    spread = q3 - q1
+    if not spread > 0:  # half the record on one value: no scale to call anything far
+        return None
+    far = (x < q1 - 3.0 * spread) | (x > q3 + 3.0 * spread)
+    if not np.count_nonzero(far) > EXCURSION_SHARE * x.size:
+        return None
+    return np.clip(x, q1 - 1.5 * spread, q3 + 1.5 * spread)
 

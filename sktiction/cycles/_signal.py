@@ -60,14 +60,16 @@ _UNIT_RANGE = 200
 
 def unit_scaled(x):
     """``x`` and 1, or, when its largest magnitude lies beyond 2**±200, ``x`` divided by
-    the power of two nearest above it, and that power: values near 1e300 are read
+    the power of two nearest above it (2**1023 for the largest doubles, whose next power
+    overflows), and that power: values near 1e300 are read
     without overflow in a spectrum's squares and values near 1e-300 without underflow
     (a power of two scales exactly; records within the range are read as given, to the
     bit)."""
     top = np.max(np.abs(x)) if x.size else 0.0
     if not np.isfinite(top) or top == 0 or abs(np.frexp(top)[1]) <= _UNIT_RANGE:
         return x, 1.0
-    unit = 2.0 ** np.frexp(top)[1]
+    # above 2**1023 the power nearest above is 2**1024, an overflow: use 2**1023 there
+    unit = 2.0 ** min(int(np.frexp(top)[1]), 1023)
     return x / unit, unit
 
 
