@@ -382,8 +382,8 @@ def _read_cycles(x, min_cycles, hysteresis, tolerance, min_acf, threshold, domin
     width = max(1, int(round(rel * p0))) if np.isfinite(p0) else 1
     smooth = moving_average(centred, width) if sigma > 0 else centred
     h = max(hysteresis * sigma / np.sqrt(width), 1e-12 * max(np.ptp(centred), 1e-300))
-    # a stretch on the moving mean (a held record) is rounding noise about zero, whose
-    # sign changes, not the signal, would place its crossing: read it as zero
+    # a stretch on the moving mean (a hold drawn as a line) is rounding noise about zero,
+    # whose sign changes, not the signal, would place its crossing: read it as zero
     eps = 1e-10 * np.ptp(smooth) if smooth.size else 0.0
     crossings, signs = schmitt_crossings(np.where(np.abs(smooth) <= eps, 0.0, smooth), h)
     peaks = _peaks(centred, smooth, crossings, signs, width)

@@ -249,4 +249,3 @@ def clipped_excursions(x):
     if not np.count_nonzero(far) > EXCURSION_SHARE * x.size:
         return None
     return np.clip(x, q1 - 1.5 * spread, q3 + 1.5 * spread)
-
