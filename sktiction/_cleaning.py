@@ -59,6 +59,7 @@ from .cycles._signal import (
     lines_through_changes,
     on_grid_share,
     robust_spread,
+    true_runs,
 )
 
 #: Widest spike removed, in samples.
@@ -619,11 +620,11 @@ def exported_stepped(x, other):
     if jumps.size < _STEPPED_CHANGES:
         return False
     # one stretch held for most of the record (manual mode, a trip) is no export's doing
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], held.astype(np.int8), [0]])))
-    if np.max(edges[1::2] - edges[::2]) > _STEPPED_LONGEST * held.sum():
+    starts, stops = true_runs(held)
+    if np.max(stops - starts) > _STEPPED_LONGEST * held.sum():
         return False
     # each run held at a level of its own: a noise-free square cycle holds a few in turn
-    run_levels = x[edges[::2]]
+    run_levels = x[starts]
     if 1.0 - np.unique(run_levels).size / run_levels.size > _STEPPED_REVISITS:
         return False
     levels = x[1:][~held]

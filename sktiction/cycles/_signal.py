@@ -251,6 +251,20 @@ def drawn_lines(x, d2=None):
     return rows if rows is not None and rows.size >= _MIN_STORED else None
 
 
+def true_runs(same):
+    """Start and stop (exclusive) of the runs of True in a boolean array.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sktiction.cycles._signal import true_runs
+    >>> [r.tolist() for r in true_runs(np.array([True, True, False, True]))]
+    [[0, 3], [2, 4]]
+    """
+    edges = np.diff(np.concatenate([[0], same.astype(np.int8), [0]]))
+    return np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+
+
 def on_grid_share(values, step, tolerance=0.05):
     """Share of ``values`` (at least one) that are whole multiples of ``step``, within
     ``tolerance`` of it: the changes or the levels of a quantised tag all are; a

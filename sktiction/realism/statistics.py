@@ -17,7 +17,13 @@ from scipy.fft import irfft, next_fast_len, rfft
 
 from .._validation import OP, PV, SP, check_loops
 from ..cycles._level_shifts import level_shifts
-from ..cycles._signal import _stored_noise, drawn_lines, fast_median, fast_percentile
+from ..cycles._signal import (
+    _stored_noise,
+    drawn_lines,
+    fast_median,
+    fast_percentile,
+    true_runs,
+)
 
 __all__ = ["loop_statistics", "STATISTIC_COLUMNS"]
 
@@ -313,12 +319,6 @@ def _repeat_fractions(x):
     return tuple(np.nan if c is None else c.repeat_fraction for c in (pv, op))
 
 
-def _runs(same):
-    """Start and stop (exclusive) of the runs of True in a boolean array."""
-    edges = np.diff(np.concatenate([[0], same.astype(np.int8), [0]]))
-    return np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-
-
 def _freezes(x, same, other_runs, step):
     """Hold and independent-freeze shares of one channel.
 
@@ -328,7 +328,7 @@ def _freezes(x, same, other_runs, step):
     quantised tag jumps by whole steps).
     """
     n = max(len(same), 1)
-    start, stop = _runs(same)
+    start, stop = true_runs(same)
     if other_runs is not None:
         both = set(zip(*other_runs, strict=True))
         coincident = np.array(
@@ -526,8 +526,8 @@ def _one_loop(x, ts):
             row["averaging_contrast"] = 0.0
         both = float((same_pv & same_op).mean())
         row["row_repeat_fraction"] = both
-        hold, hold_len, pv_alone = _freezes(pv, same_pv, _runs(same_op), pv_q)
-        _, _, op_alone = _freezes(op, same_op, _runs(same_pv), _min_change(op))
+        hold, hold_len, pv_alone = _freezes(pv, same_pv, true_runs(same_op), pv_q)
+        _, _, op_alone = _freezes(op, same_op, true_runs(same_pv), _min_change(op))
         row.update(hold_fraction=hold, hold_run_length=hold_len)
         row["independent_freeze"] = 0.5 * (pv_alone + op_alone)
         # Historian holds freeze whole rows: joint repeats beyond what independent
