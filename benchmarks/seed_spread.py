@@ -16,7 +16,8 @@ computed once and every model reads them (``_diagnose_features``, the method beh
 ``diagnose``).
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws] [first_draw]
-[--compare] [--control] [--second-simulator] [--loops=N] [--without=PREFIX]`` (default 10
+[--compare] [--control] [--second-simulator] [--third-simulator] [--loops=N]
+[--without=PREFIX]`` (default 10
 draws from 0; 10-30 s per draw on 2 idle cores).
 ``--compare`` also trains each draw on every loop, the sticky loops whose slips stay
 inside the noise included (the recipe before they were left out), and prints the paired
@@ -26,8 +27,10 @@ decision threshold that the recipe's class balance implies (the prior shift alon
 triples the time. ``--second-simulator`` also trains each draw on the recipe's loops plus
 600 loops of ``independent_world.py`` (seed ``500 + draw``, never the judging seed 2026) and
 prints the change from the recipe alone: does a second simulator bring the model closer to
-the plants? ``--loops=N`` also trains each draw's recipe on ``N`` simulated loops instead of
-1,500 and prints the paired change: does more of the simulator carry over?
+the plants? ``--third-simulator`` does the same with 600 loops of ``third_world.py`` (seed
+``500 + draw``, never its judging seeds 0 and 1): a simulator in training, judged on the
+other one left out. ``--loops=N`` also trains each draw's recipe on ``N`` simulated loops
+instead of 1,500 and prints the paired change: does more of the simulator carry over?
 ``--without=PREFIX`` also trains each draw's recipe without the model columns whose names
 start with ``PREFIX`` (e.g. ``valve_model__multiscale``; several prefixes separated by
 commas, a name ending in ``$`` matched exactly) and prints the change from leaving them
@@ -136,13 +139,21 @@ def _controls(seed, sets, X, y, left_out):
     return row, 1.0 - y[~left_out].mean()
 
 
-def _with_second_simulator(seed, X, y, n_loops=600):
-    """The recipe's loops plus ``n_loops`` of the second simulator, NaN-padded alike."""
-    X2, y2, _ = make_independent_loops(n_loops, 6000, random_state=500 + seed)
+def _with_simulator(make, seed, X, y, n_loops=600):
+    """The recipe's loops plus ``n_loops`` of another simulator (``make(n_loops, seed)``
+    returns its loops and labels first), NaN-padded alike."""
+    X2, y2 = make(n_loops, 500 + seed)[:2]
     n = max(X.shape[1], X2.shape[1])
     pad = [np.pad(a, ((0, 0), (0, n - a.shape[1]), (0, 0)), constant_values=np.nan)
            for a in (X, X2)]  # fmt: skip
     return np.concatenate(pad), np.concatenate([y, y2])
+
+
+#: simulators that ``--second-simulator`` and ``--third-simulator`` add to training
+OTHER_SIMULATORS = {
+    "second": lambda n, seed: make_independent_loops(n, 6000, random_state=seed),
+    "third": lambda n, seed: make_third_loops(n, random_state=seed),
+}
 
 
 def _named(columns, spec):
@@ -175,7 +186,7 @@ def _without(prefix, seed):
     return Without(**recipe.get_params())
 
 
-def main(n_draws=10, first=0, compare=False, control=False, second=False, loops=None,
+def main(n_draws=10, first=0, compare=False, control=False, others=(), loops=None,
          without=None):
     rows, paired, mixed, bigger, ablated, sets = [], [], [], [], [], None
     for seed in range(first, first + n_draws):
@@ -196,11 +207,12 @@ def main(n_draws=10, first=0, compare=False, control=False, second=False, loops=
             paired.append(row)
             paired.append({"draw": seed, "training": "every loop, prior-shifted threshold",
                            **_scores(every, sets, threshold)})  # fmt: skip
-        if second:
-            Xb, yb = _with_second_simulator(seed, X, y)
-            both = make_learned_classifier(random_state=seed, n_jobs=2).fit(Xb, yb)
+        if others:
             mixed.append({**rows[-1], "training": "recipe"})
-            mixed.append({"draw": seed, "training": "recipe + second simulator",
+        for other in others:
+            Xb, yb = _with_simulator(OTHER_SIMULATORS[other], seed, X, y)
+            both = make_learned_classifier(random_state=seed, n_jobs=2).fit(Xb, yb)
+            mixed.append({"draw": seed, "training": f"recipe + {other} simulator",
                           **_scores(both, sets)})  # fmt: skip
         if loops:
             Xn, yn = _training_set(seed, loops, 2000, "default")
@@ -238,7 +250,7 @@ if __name__ == "__main__":
         int(args[1]) if len(args) > 1 else 0,
         compare="--compare" in sys.argv,
         control="--control" in sys.argv,
-        second="--second-simulator" in sys.argv,
+        others=[o for o in OTHER_SIMULATORS if f"--{o}-simulator" in sys.argv],
         loops=next((int(a.split("=")[1]) for a in sys.argv if a.startswith("--loops=")), None),
         without=next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--without=")), None),
     )

@@ -20,6 +20,7 @@ from ._signal import (
     one_signal,
     remove_mean,
     schmitt_crossings,
+    true_runs,
     unit_scaled,
 )
 
@@ -125,8 +126,7 @@ def _regular_runs(periods, tolerance):
     if n < 3:
         local = np.full(n, np.median(periods))
         regular = np.abs(periods - local) <= tolerance * local
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], regular.astype(int), [0]])))
-        return list(zip(edges[::2], edges[1::2]))
+        return list(zip(*true_runs(regular)))
     # reflect, so a stray first or last cycle is judged by its neighbours
     runs = _runs_of_regular(np.asarray(periods, dtype=float), float(tolerance))
     return [(int(a), int(b)) for a, b in runs]
