@@ -207,9 +207,10 @@ def _on_off(x, h):
     return state[np.maximum.accumulate(rows)]
 
 
-#: what a plant record does to a signal: (name, distortion of a unit-amplitude signal)
+#: what a plant record does to a signal: (name, distortion of a noisy unit-amplitude
+#: cycle, or of white noise)
 RECORDED = [
-    ("saturated a third of each cycle", lambda x, rng: np.clip(x, -0.5, 0.5)),
+    ("clipped at half its amplitude", lambda x, rng: np.clip(x, -0.5, 0.5)),
     ("saturated at one end", lambda x, rng: np.minimum(x, 0.3)),
     ("held in manual for 30 %", _in_manual),
     ("ten spikes of 20 sd", _spiked),
@@ -250,7 +251,7 @@ def test_a_stick_slip_saw_tooth_of_wandering_period_and_held_rows_is_found(
     shortest, longest, tried, found
 ):
     # a plant window (751 samples at 10 s) of a stick-slip saw-tooth whose cycles last
-    # 50-100 or 40-120 samples (Thornhill's r of such timing about 1.5 and 1), 40 % of
+    # 50-100 or 40-120 samples (Thornhill's r of such timing about 1.7 and 1.1), 40 % of
     # its rows held by the historian: all found, or most where the timing is loosest.
     # Without the time-domain confirmation of regular cycles: 19 of 20 and 22 of 30
     # (26 with it)
