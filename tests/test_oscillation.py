@@ -199,12 +199,17 @@ def _spiked(x, rng):
     return x
 
 
+def _held_since_fresh(x, fresh):
+    """``x`` with every row that is not ``fresh`` holding the last fresh row's value (the
+    first row is always kept)."""
+    return x[np.maximum.accumulate(np.where(fresh, np.arange(x.size), 0))]
+
+
 def _on_off(x, h):
     """A relay with hysteresis: on above ``h``, off below ``-h``, as it was in between."""
     state = np.where(x > h, 1.0, np.where(x < -h, 0.0, np.nan))
     state[0] = float(x[0] > 0) if np.isnan(state[0]) else state[0]
-    rows = np.where(np.isnan(state), 0, np.arange(x.size))
-    return state[np.maximum.accumulate(rows)]
+    return _held_since_fresh(state, ~np.isnan(state))
 
 
 #: what a plant record does to a signal: (name, distortion of a noisy unit-amplitude
@@ -259,9 +264,7 @@ def test_a_stick_slip_saw_tooth_of_wandering_period_and_held_rows_is_found(
     hits = 0
     for _ in range(tried):
         fresh = rng.random(751) > 0.4  # the rows the historian stored anew
-        fresh[0] = True
-        last = np.maximum.accumulate(np.where(fresh, np.arange(751), 0))
-        held = _saw_tooth(rng, shortest, longest)[last]
+        held = _held_since_fresh(_saw_tooth(rng, shortest, longest), fresh)
         hits += analyze_cycles(held).oscillating
     assert hits >= found
 
