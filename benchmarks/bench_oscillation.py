@@ -4,7 +4,9 @@ Issue 9 lists how real oscillations are missed: irregular cycles (Thornhill's r 
 the very_irregular class; the irregular class is milder), noise-driven (lightly damped)
 oscillations, two frequencies at once, a drift hiding the first ACF lobe, intermittent
 stretches, short periods (about 10 samples per cycle), long records with few slow cycles,
-and historian records with repeated or quantised samples. Each class below
+historian records with repeated or quantised samples, and regular cycles that an ACF
+criterion rejects (the stick_slip class: a sticky valve's saw-tooth under noise and
+holds). Each class below
 makes signals of that kind (truth: oscillating); each non-oscillating class is a matching
 counterpart (coloured noise, random walk, steps, noise with repeated samples, drift alone,
 and the PV or OP of an ordinarily tuned PI loop holding its setpoint against a random-walk
@@ -72,6 +74,8 @@ def _wandering(rng, n, period, wander=0.15, amp_wander=0.2, shape="sine"):
         c = np.sin(phase)
     elif shape == "square":
         c = np.tanh(4 * np.sin(phase)) / np.tanh(4)
+    elif shape == "saw":  # a ramp over the whole cycle, then a jump back
+        c = (phase / np.pi) % 2 - 1
     else:  # triangle
         c = 2 / np.pi * np.arcsin(np.sin(phase))
     return np.exp(la) * c
@@ -187,6 +191,13 @@ def make_signal(kind, rng, info=None):
         if rng.random() < 0.5:
             x = _quantise(x, rng.uniform(0.05, 0.3))
         return x, 1, [p]
+    if kind == "stick_slip":  # a sticky valve's controller output: slow ramps, fast slips
+        p = rng.uniform(20, top)
+        x = _wandering(rng, n, p, rng.uniform(0.12, 0.25), rng.uniform(0.1, 0.25), "saw")
+        x = rng.choice([-1, 1]) * x + _noise(rng, n, rng.uniform(0.1, 0.7))
+        if rng.random() < 0.5:
+            x = _hold(rng, x, rng.uniform(0.15, 0.4))
+        return x, 1, [p]
     if kind == "level_steps":  # operator or load moves, 3-30 times the cycle's amplitude
         p = rng.uniform(15, top)
         x = _wandering(rng, n, p, 0.08, 0.15, shape) + _noise(rng, n, rng.uniform(0.05, 0.4))
@@ -290,12 +301,13 @@ OSCILLATING = (
     "compressed",
     "very_irregular",
     "level_steps",
+    "stick_slip",
 )
 QUIET = ("coloured_noise", "random_walk", "steps", "repeated_noise", "drift", "closed_loop")
 #: Random stream of each class (a class added later gets a new one, so that the others
 #: keep their signals).
-STREAM = {kind: i for i, kind in enumerate(OSCILLATING[:-2] + QUIET[:-1] + OSCILLATING[-2:-1]
-                                           + QUIET[-1:] + OSCILLATING[-1:])}  # fmt: skip
+STREAM = {kind: i for i, kind in enumerate(OSCILLATING[:-3] + QUIET[:-1] + OSCILLATING[-3:-2]
+                                           + QUIET[-1:] + OSCILLATING[-2:])}  # fmt: skip
 
 
 def period_found(analysis, periods, tol=0.2):

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numba import njit
 from scipy.fft import irfft
+from scipy.special import bdtrc
 
 from ._level_shifts import read_without_shifts
 from ._oscillation import MAX_CONFIRMATION, SCORE_SCALE, _components, _power_spectrum
@@ -34,6 +35,11 @@ REGULARITY_THRESHOLD = 1.0
 #: detector prunes peaks that could not reach the threshold even with it.
 CYCLE_EVIDENCE = MAX_CONFIRMATION
 CONFIRM_ACF = 0.2
+#: Lopsided cycles confirm instead of the ACF (see :func:`_lopsided`): a sign test of
+#: the cycles' fall shares against one half, at this two-sided level, ...
+LOPSIDED_LEVEL = 0.05
+#: ... with the median fall share more than this far from one half.
+LOPSIDED_MARGIN = 0.1
 
 
 @dataclass
@@ -78,6 +84,12 @@ class CycleAnalysis:
         Samples where a level shift (an operator move, a load change) was taken out
         before the signal was read (see :func:`analyze_cycles`); empty when the record
         was read as it is. ``centred`` is then the record without them.
+    fall_share : float
+        How long the cycles fall: for each full cycle in segments, the time from its
+        maximum to the minimum that follows as a share of the time to the next
+        cycle's first extreme; the median over the cycles. About 0.5 for a symmetric
+        cycle (a sine, a triangle, a square wave), near 0 or 1 for a saw-tooth,
+        whose slip is fast; NaN when no cycle is followed by an extreme in the record.
     """
 
     centred: np.ndarray
@@ -96,6 +108,7 @@ class CycleAnalysis:
     regularities: np.ndarray = field(default_factory=lambda: np.empty(0))
     components: list = field(default_factory=list)
     level_shifts: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
+    fall_share: float = np.nan
 
     @property
     def half_cycles(self):
@@ -238,6 +251,40 @@ def _segment_bounds(centred, crossings, peaks, kept):
     return out
 
 
+def _fall_shares(peaks, signs, kept):
+    """Share of each kept full cycle (crossings k, k+1, k+2) spent falling: the time
+    from its maximum to the minimum that follows, over the time from its first extreme
+    to the next cycle's first. A cycle whose next extreme the record does not hold is
+    left out."""
+    kept = np.asarray(kept, dtype=np.intp)
+    k = kept[kept + 2 < peaks.size]
+    rise_or_fall = (peaks[k + 1] - peaks[k]).astype(float)
+    total = (peaks[k + 2] - peaks[k]).astype(float)
+    falling = np.where(signs[k] > 0, rise_or_fall, total - rise_or_fall)
+    ok = total > 0
+    return falling[ok] / total[ok]
+
+
+def _lopsided(shares):
+    """Whether the cycles fall faster than they rise, or rise faster than they fall,
+    beyond chance: a stick-slip saw-tooth (a slow ramp while the valve sticks, a fast
+    slip) does, noise of any spectrum does not, as a Gaussian process reads the same
+    backwards. Sign test of the shares against one half (two-sided, exact) at
+    :data:`LOPSIDED_LEVEL`, and a median share more than :data:`LOPSIDED_MARGIN` from
+    it (at level 0.05: six of six cycles on one side, seven of seven, eight of nine).
+
+    Such cycles confirm a component when the signal's first ACF peak is low, as it is
+    for a saw-tooth whose period wanders under broadband noise: the wandering period
+    scrambles its harmonics' phase from cycle to cycle, and the noise adds to the ACF's
+    lag 0, which scales every other lag down."""
+    d = shares[shares != 0.5] - 0.5
+    n = d.size
+    if n < 3 or abs(np.median(shares) - 0.5) <= LOPSIDED_MARGIN:  # ties left out of n
+        return False
+    k = max(np.count_nonzero(d > 0), np.count_nonzero(d < 0))
+    return 2 * bdtrc(k - 1, n, 0.5) < LOPSIDED_LEVEL  # P(k or more of n on one side)
+
+
 def _set_detection(analysis, components, threshold, min_acf):
     """Fill the detection fields of ``analysis`` from the components."""
     found = [c for c in components if c.index > threshold]
@@ -281,7 +328,10 @@ def analyze_cycles(
     r, :data:`REGULARITY_THRESHOLD`) describe the cycles in segments.
 
     Both readings are combined: when the cycles in segments are regular (r > 1) and
-    the first ACF peak exceeds :data:`CONFIRM_ACF`, the component of their period
+    either the first ACF peak exceeds :data:`CONFIRM_ACF` or the cycles are lopsided
+    (they rise faster than they fall, or fall faster than they rise, beyond chance, as
+    a stick-slip saw-tooth does: :data:`LOPSIDED_LEVEL`, :data:`LOPSIDED_MARGIN`,
+    ``fall_share``), the component of their period
     gets :data:`CYCLE_EVIDENCE` added to its score (so a record of three to six
     clean slow cycles, which the spectrum alone cannot tell from a random walk, is
     still found), and the decision is read again.
@@ -411,7 +461,10 @@ def _read_cycles(x, min_cycles, hysteresis, tolerance, min_acf, threshold, domin
     analysis.segments = segments
     analysis.period = float(fast_median(p))
     analysis.regularity = float(regularity)
-    if regularity > REGULARITY_THRESHOLD and strength > CONFIRM_ACF and CYCLE_EVIDENCE > 0:
+    shares = _fall_shares(peaks, signs, kept)
+    analysis.fall_share = float(np.median(shares)) if shares.size else np.nan
+    confirmed = strength > CONFIRM_ACF or _lopsided(shares)
+    if regularity > REGULARITY_THRESHOLD and confirmed and CYCLE_EVIDENCE > 0:
         # regular cycles in the time domain confirm the component of their period
         boosted = [
             _with_evidence(c, CYCLE_EVIDENCE)
