@@ -12,7 +12,7 @@ value left out (issue 7).
 
 The test always keeps every loop; training leaves out sticky loops whose slips stay below
 the noise (``meta["stiction_visible"]`` False), as ``pretrained_classifier`` does
-(``learned._shows_its_label``), unless the third argument is ``all``.
+(``_pretrained._shows_its_label``), unless the third argument is ``all``.
 Printed per value left out: loops tested (sticky / healthy), balanced
 accuracy of ``predict`` (a loop the model does not judge counts as "no stiction", what a
 user gets), the same on identifiable test loops (healthy or visible slips), recall,
@@ -36,7 +36,7 @@ from sklearn.metrics import balanced_accuracy_score
 from threadpoolctl import threadpool_limits
 
 from sktiction.classifiers import make_learned_classifier
-from sktiction.classifiers.learned import _shows_its_label
+from sktiction.classifiers._pretrained import _shows_its_label
 from sktiction.datasets import make_loops
 
 N_LOOPS = int(sys.argv[1]) if len(sys.argv) > 1 else 2400

@@ -37,7 +37,7 @@ from _measured_common import load_measured  # noqa: E402
 
 from sktiction import AreaRatioClassifier, ShapeLibraryClassifier  # noqa: E402
 from sktiction.classifiers import make_learned_classifier, pretrained_classifier  # noqa: E402
-from sktiction.classifiers.learned import _shows_its_label  # noqa: E402
+from sktiction.classifiers._pretrained import _shows_its_label  # noqa: E402
 from sktiction.datasets import make_loops  # noqa: E402
 
 

@@ -172,6 +172,15 @@ TARGETED = {
         "tests/test_learned.py::test_bad_parameters_and_labels_raise",
         "tests/test_learned.py::test_cache_loads_rebuilds_corrupt_and_stale_entries",
     ],
+    "sktiction/classifiers/_coupling.py": [
+        "tests/test_classifiers_learned.py",
+        "tests/test_learned.py::test_closed_loops_are_coupled_and_unrelated_signals_are_not",
+    ],
+    "sktiction/classifiers/_pretrained.py": [
+        "tests/test_classifiers_learned.py",
+        "tests/test_learned.py::test_cache_loads_rebuilds_corrupt_and_stale_entries",
+        "tests/test_learned.py::test_pretrained_classifier_is_built_once_and_loaded_in_a_new_process",
+    ],
     "sktiction/datasets/_generators.py": [
         "tests/test_make_loops.py", "tests/test_make_loops_signals.py",
         "tests/test_setpoint_nuisance.py", "tests/test_example.py",

@@ -2,7 +2,7 @@
 
 The default model is ``make_learned_classifier(random_state=s)`` trained on
 ``make_loops(1500, n_samples=2000, random_state=s)`` with ``s = 0``, without the sticky
-loops whose slips stay inside the noise (``learned._training_set``). The booster's seed
+loops whose slips stay inside the noise (``_pretrained._training_set``). The booster's seed
 changes nothing with the defaults (see ``LearnedStictionClassifier``), so ``s`` only picks
 the simulated loops. This script trains the same recipe on several draws and judges each
 on the same loops: the second simulator (``independent_world.py``, 400 loops), the
@@ -53,11 +53,8 @@ from third_world import make as make_third_loops  # noqa: E402
 from sktiction._cleaning import as_judged  # noqa: E402
 from sktiction._validation import check_loops  # noqa: E402
 from sktiction.classifiers import make_learned_classifier  # noqa: E402
-from sktiction.classifiers.learned import (  # noqa: E402
-    _shows_its_label,
-    _training_set,
-    normalise_loops,
-)
+from sktiction.classifiers._pretrained import _shows_its_label, _training_set  # noqa: E402
+from sktiction.classifiers.learned import normalise_loops  # noqa: E402
 from sktiction.datasets import make_loops  # noqa: E402
 
 

@@ -25,7 +25,7 @@ import pandas as pd
 from sklearn.metrics import balanced_accuracy_score, brier_score_loss
 
 from sktiction import AreaRatioClassifier, ShapeLibraryClassifier, pretrained_classifier
-from sktiction.classifiers.learned import _shows_its_label
+from sktiction.classifiers._pretrained import _shows_its_label
 from sktiction.datasets import make_loops
 
 N_TEST = int(sys.argv[1]) if len(sys.argv) > 1 else 400

@@ -23,17 +23,17 @@ from sklearn.preprocessing import StandardScaler
 
 from sktiction._validation import check_loops, loop_lengths
 from sktiction.classifiers import AreaRatioClassifier, LearnedStictionClassifier
+from sktiction.classifiers import _coupling as coupling_module
 from sktiction.classifiers import _persistence as persistence
+from sktiction.classifiers import _pretrained as pretrained_module
 from sktiction.classifiers import learned as learned_module
-from sktiction.classifiers.learned import (
+from sktiction.classifiers._coupling import (
     DOMAIN_STATISTICS,
     _ar_filter,
-    _robust_spread,
     domain_statistics,
-    make_loop_features,
-    normalise_loops,
     pv_op_coupling,
 )
+from sktiction.classifiers.learned import _robust_spread, make_loop_features, normalise_loops
 from sktiction.cycles._signal import lines_through_changes
 from sktiction.datasets import make_loops
 from sktiction.features._loops import analyse_loops
@@ -174,9 +174,9 @@ def test_the_white_column_is_the_prewhitened_coupling_of_the_control_error():
     pv, op, sp = weakly_coupled_loop()
     stats = domain_statistics(np.stack([pv, op, sp], -1)[None])[0]
     assert stats[0] == pytest.approx(pv_op_coupling(pv, op, sp)) and stats[0] < 10
-    white = pv_op_coupling(pv, op, sp, prewhiten=learned_module._PREWHITEN_ORDER)
+    white = pv_op_coupling(pv, op, sp, prewhiten=coupling_module._PREWHITEN_ORDER)
     assert stats[1] == pytest.approx(white)
-    assert abs(white - pv_op_coupling(pv, op, prewhiten=learned_module._PREWHITEN_ORDER)) > 1
+    assert abs(white - pv_op_coupling(pv, op, prewhiten=coupling_module._PREWHITEN_ORDER)) > 1
     assert abs(white - stats[0]) > 1
 
 
@@ -635,16 +635,16 @@ def test_fit_refuses_labels_and_loops_it_cannot_learn_from(data):
 
 
 def test_training_key_names_what_the_model_was_built_from():
-    key = learned_module.training_key(3, 40, 600, "classic")
+    key = pretrained_module.training_key(3, 40, 600, "classic")
     assert key["arguments"] == {"random_state": 3, "n_loops": 40, "n_samples": 600,
                                 "world": "classic"}  # fmt: skip
-    root = persistence.Path(learned_module.__file__).resolve().parents[1]
-    assert key["source"] == persistence.source_hash(root, learned_module._TRAINING_SOURCES)
+    root = persistence.Path(pretrained_module.__file__).resolve().parents[1]
+    assert key["source"] == persistence.source_hash(root, pretrained_module._TRAINING_SOURCES)
     assert {k: key[k] for k in ("python", "numpy", "sklearn")} == persistence.runtime_versions()
     from sktiction import __version__
 
     assert key["package"] == __version__
-    assert learned_module.training_key(3, 40, 600)["arguments"]["world"] == "default"
+    assert pretrained_module.training_key(3, 40, 600)["arguments"]["world"] == "default"
 
 
 def test_pretrained_classifier_builds_once_per_arguments_and_returns_copies(monkeypatch, tmp_path):
@@ -654,28 +654,29 @@ def test_pretrained_classifier_builds_once_per_arguments_and_returns_copies(monk
         built.append((random_state, n_loops, n_samples, world, n_jobs))
         return {"model": len(built)}
 
-    monkeypatch.setattr(learned_module, "_build", fake_build)
+    monkeypatch.setattr(pretrained_module, "_build", fake_build)
     monkeypatch.setenv("SKTICTION_CACHE", str(tmp_path))
-    learned_module._trained.cache_clear()
+    pretrained_module._trained.cache_clear()
     try:
-        first = learned_module.pretrained_classifier(3.0, n_loops=40.0, n_samples=600)
+        first = pretrained_module.pretrained_classifier(3.0, n_loops=40.0, n_samples=600)
         assert built == [(3, 40, 600, "default", 2)]
         first["model"] = "changed by the caller"
-        again = learned_module.pretrained_classifier(3, n_loops=40, n_samples=600)
+        again = pretrained_module.pretrained_classifier(3, n_loops=40, n_samples=600)
         assert again == {"model": 1} and len(built) == 1  # kept in memory, copied out
         stem = "learned-default-rs3-n40-s600"
         assert sorted(p.name for p in tmp_path.iterdir()) == [f"{stem}.joblib", f"{stem}.json"]
-        learned_module._trained.cache_clear()
-        assert learned_module.pretrained_classifier(3, n_loops=40, n_samples=600) == {"model": 1}
+        pretrained_module._trained.cache_clear()
+        again = pretrained_module.pretrained_classifier(3, n_loops=40, n_samples=600)
+        assert again == {"model": 1}
         assert len(built) == 1  # loaded from the cache folder
-        nocache = learned_module.pretrained_classifier(4, n_loops=40, world="classic",
+        nocache = pretrained_module.pretrained_classifier(4, n_loops=40, world="classic",
                                                        cache=False)  # fmt: skip
         assert nocache == {"model": 2} and built[-1] == (4, 40, 2000, "classic", 2)
         assert len(list(tmp_path.iterdir())) == 2
         with pytest.raises(ValueError, match="world must be one of"):
-            learned_module.pretrained_classifier(world="plant")
+            pretrained_module.pretrained_classifier(world="plant")
     finally:
-        learned_module._trained.cache_clear()
+        pretrained_module._trained.cache_clear()
 
 
 def test_pretrained_classifier_defaults_and_deep_copies(monkeypatch):
@@ -685,24 +686,24 @@ def test_pretrained_classifier_defaults_and_deep_copies(monkeypatch):
         built.append((random_state, n_loops, n_samples, world))
         return {"model": ["fitted"]}
 
-    monkeypatch.setattr(learned_module, "_build", fake_build)
-    learned_module._trained.cache_clear()
+    monkeypatch.setattr(pretrained_module, "_build", fake_build)
+    pretrained_module._trained.cache_clear()
     try:
-        first = learned_module.pretrained_classifier(cache=False)
+        first = pretrained_module.pretrained_classifier(cache=False)
         assert built == [(0, 1500, 2000, "default")]  # the documented defaults
         first["model"].append("changed by the caller")  # inside the model, not just its top
-        assert learned_module.pretrained_classifier(cache=False) == {"model": ["fitted"]}
+        assert pretrained_module.pretrained_classifier(cache=False) == {"model": ["fitted"]}
         assert len(built) == 1
     finally:
-        learned_module._trained.cache_clear()
+        pretrained_module._trained.cache_clear()
 
 
 def test_training_sets_are_the_documented_worlds():
-    X, y = learned_module._training_set(0, 12, 300, "classic")
+    X, y = pretrained_module._training_set(0, 12, 300, "classic")
     X2, y2 = make_loops(12, n_samples=300, random_state=0, world="classic", slip_fraction=0.25)
     np.testing.assert_array_equal(X, X2)
     np.testing.assert_array_equal(y, y2)
-    X, _ = learned_module._training_set(1, 6, 300, "default")
+    X, _ = pretrained_module._training_set(1, 6, 300, "default")
     np.testing.assert_array_equal(X, make_loops(6, n_samples=300, random_state=1)[0])
 
 
@@ -717,10 +718,10 @@ def test_build_fits_the_documented_recipe_on_its_training_set(monkeypatch):
             self.X, self.y = X, y
             return self
 
-    monkeypatch.setattr(learned_module, "make_learned_classifier", Recorder)
-    model = learned_module._build(2, 6, 300, "classic", 1)
+    monkeypatch.setattr(pretrained_module, "make_learned_classifier", Recorder)
+    model = pretrained_module._build(2, 6, 300, "classic", 1)
     assert made == [{"random_state": 2, "n_jobs": 1}]
-    X, y = learned_module._training_set(2, 6, 300, "classic")
+    X, y = pretrained_module._training_set(2, 6, 300, "classic")
     np.testing.assert_array_equal(model.X, X)
     np.testing.assert_array_equal(model.y, y)
 
@@ -729,12 +730,12 @@ def test_the_default_model_is_not_trained_on_sticky_loops_whose_slips_hide_in_th
     X, y, meta = make_loops(80, n_samples=600, random_state=1, return_meta=True)
     hidden = ((meta["y"] == 1) & ~meta["stiction_visible"]).to_numpy()
     assert hidden.sum() >= 3  # the seed has such loops, or the test proves nothing
-    Xt, yt = learned_module._training_set(1, 80, 600, "default")
+    Xt, yt = pretrained_module._training_set(1, 80, 600, "default")
     np.testing.assert_array_equal(Xt, X[~hidden])  # every other loop, in order
     np.testing.assert_array_equal(yt, y[~hidden])
     # the classic world has no slip measure: every loop is kept
     Xc, yc = make_loops(20, n_samples=400, world="classic", slip_fraction=0.25, random_state=2)
-    Xct, yct = learned_module._training_set(2, 20, 400, "classic")
+    Xct, yct = pretrained_module._training_set(2, 20, 400, "classic")
     np.testing.assert_array_equal(Xct, Xc)
     np.testing.assert_array_equal(yct, yc)
 

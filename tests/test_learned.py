@@ -15,10 +15,10 @@ from sklearn.model_selection import cross_val_score
 
 from sktiction._cleaning import as_judged
 from sktiction._validation import check_loops, loop_lengths
-from sktiction.classifiers import LearnedStictionClassifier
+from sktiction.classifiers import LearnedStictionClassifier, pv_op_coupling
 from sktiction.classifiers import _persistence as persistence
-from sktiction.classifiers import learned as learned_module
-from sktiction.classifiers.learned import normalise_loops, pv_op_coupling
+from sktiction.classifiers import _pretrained as pretrained_module
+from sktiction.classifiers.learned import normalise_loops
 from sktiction.datasets import make_loops
 from sktiction.features import LoopDescriptors, PVOPHysteresis, TemplateDistances
 
@@ -344,29 +344,31 @@ def test_cache_loads_rebuilds_corrupt_and_stale_entries(tmp_path):
 
 def test_pretrained_classifier_is_built_once_and_loaded_in_a_new_process(tmp_path, monkeypatch):
     monkeypatch.setenv("SKTICTION_CACHE", str(tmp_path))
-    learned_module._trained.cache_clear()
+    pretrained_module._trained.cache_clear()
     args = dict(random_state=3, n_loops=40, n_samples=600)
-    clf = learned_module.pretrained_classifier(**args)
-    assert learned_module._trained(3, 40, 600, True, "default")[1] == "built (missing)"
+    clf = pretrained_module.pretrained_classifier(**args)
+    assert pretrained_module._trained(3, 40, 600, True, "default")[1] == "built (missing)"
     assert len(list(tmp_path.glob("learned-*.joblib"))) == 1
     code = (
-        "from sktiction.classifiers import learned as m; "
+        "from sktiction.classifiers import _pretrained as m; "
         'print(m._trained(3, 40, 600, True, "default")[1])'
     )
     env = {**os.environ, "SKTICTION_CACHE": str(tmp_path)}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     saved = json.loads(next(tmp_path.glob("learned-*.json")).read_text())["key"]
-    if out.stdout.strip() == "built (stale)" and saved != learned_module.training_key(3, 40, 600):
+    stale = saved != pretrained_module.training_key(3, 40, 600)
+    if out.stdout.strip() == "built (stale)" and stale:
         pytest.skip("the package's source changed while the test ran (shared working tree)")
     assert out.stdout.strip() == "loaded", out.stderr
     # a changed training key (e.g. new code) makes the entry stale: rebuilt, same slot
-    learned_module._trained.cache_clear()
-    real_key = learned_module.training_key
+    pretrained_module._trained.cache_clear()
+    real_key = pretrained_module.training_key
     monkeypatch.setattr(
-        learned_module, "training_key", lambda *a: {**real_key(*a), "source": "changed"}
+        pretrained_module, "training_key", lambda *a: {**real_key(*a), "source": "changed"}
     )
-    assert learned_module._trained(3, 40, 600, True, "default")[1] == "built (stale)"
-    learned_module._trained.cache_clear()
+    assert pretrained_module._trained(3, 40, 600, True, "default")[1] == "built (stale)"
+    pretrained_module._trained.cache_clear()
     X, _ = make_loops(5, n_samples=600, random_state=1)
-    assert np.array_equal(clf.predict(X), learned_module.pretrained_classifier(**args).predict(X))
-    learned_module._trained.cache_clear()
+    rebuilt = pretrained_module.pretrained_classifier(**args)
+    assert np.array_equal(clf.predict(X), rebuilt.predict(X))
+    pretrained_module._trained.cache_clear()

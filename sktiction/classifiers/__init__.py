@@ -7,12 +7,13 @@ __getattr__, __dir__, __all__ = attach(
     {
         ".applicability": ["assess_applicability"],
         ".area_ratio": ["AreaRatioClassifier"],
+        "._coupling": ["domain_statistics", "pv_op_coupling"],
         ".learned": [
             "LearnedStictionClassifier",
             "make_learned_classifier",
             "make_loop_features",
-            "pretrained_classifier",
         ],
+        "._pretrained": ["pretrained_classifier"],
         ".shape_library": ["SHAPE_LIBRARY", "ShapeLibraryClassifier"],
     },
 )

@@ -28,25 +28,20 @@ when the first learned model met data it had not seen:
    about 8 sticky loops in 10 among simulated loops like the training ones
    (``benchmarks/simulated_accuracy.py`` prints the reliability table and Brier score).
 
-:func:`pretrained_classifier` trains the default model once and keeps it in a user
-cache (:mod:`sktiction.classifiers._persistence`: why joblib, how a stale or corrupt
-entry is found and rebuilt). Time a fresh build with
-``SKTICTION_CACHE=$(mktemp -d) python -W ignore -m sktiction.classifiers.learned``.
+:func:`~sktiction.pretrained_classifier` (:mod:`sktiction.classifiers._pretrained`)
+trains the default model once and keeps it in a user cache
+(:mod:`sktiction.classifiers._persistence`: why joblib, how a stale or corrupt entry is
+found and rebuilt); the domain rules' statistics are :mod:`sktiction.classifiers._coupling`'s.
 """
 
 from __future__ import annotations
 
-import copy
-import functools
 import numbers
-import time
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 from joblib import Parallel, delayed
-from scipy import stats
 from sklearn.base import BaseEstimator, ClassifierMixin
 from sklearn.calibration import CalibratedClassifierCV
 from sklearn.ensemble import HistGradientBoostingClassifier, VotingClassifier
@@ -68,9 +63,8 @@ from .._validation import (
     loop_status,
     validate_loops,
 )
-from ..cycles._signal import lines_through_changes
-from . import _persistence
 from ._base import said_unjudged
+from ._coupling import _MIN_WHITE, _WEAK_COUPLING, DOMAIN_STATISTICS, domain_statistics
 from .applicability import drawn_through_few
 
 #: Reasons :meth:`LearnedStictionClassifier.diagnose` gives for no verdict, besides the
@@ -98,15 +92,6 @@ _OP_UNIT_FEATURES = ("valve_model__stiction_fit_band",)
 # never touched (benchmarks/sampling_rate.py).
 _PERIOD, _OSCILLATING = "templates__period", "templates__oscillating"
 _MIN_COARSE_ROWS = 600
-# Statistics checked by the domain rules but not given to the model.
-DOMAIN_STATISTICS = ("pv_op_coupling", "pv_op_coupling_white", "frozen_share")
-# A coupling z below _WEAK_COUPLING must also hold after prewhitening (z >= _MIN_WHITE):
-# measured on 400 default-world loops against OP and PV of two different loops, this
-# lets 0.2 % of such pairs through instead of 2.2 %, for 1 % more simulated loops
-# without a verdict.
-_WEAK_COUPLING, _MIN_WHITE = 10.0, 3.0
-_HELD_APART = 0.1  # see domain_statistics
-_PREWHITEN_ORDER = 8
 
 
 def make_loop_features(n_jobs=None):
@@ -235,133 +220,6 @@ def normalise_loops(loops):
     return out
 
 
-def _ar_filter(x, coef):
-    """Residual of ``x`` after the AR prediction with coefficients ``coef`` (lags 1..p)."""
-    p = coef.size
-    out = x[p:].copy()
-    for k in range(p):
-        out -= coef[k] * x[p - 1 - k : x.size - 1 - k]
-    return out
-
-
-def pv_op_coupling(pv, op, sp=None, *, prewhiten=0):
-    """How clearly OP follows the control error as a controller's output does, as a z-score.
-
-    Any PI(D) controller moves its output by ``dOP[t] = Kc de[t] + Kc Ts / Ti e[t]``
-    (plus filter and derivative terms), with ``e = SP - PV``. The increments of OP are
-    regressed on the error and its increment at lags 0 and 1, and the regression's
-    F-test is turned into a one-sided normal z-score (capped near 37). Conditional on
-    the error, unrelated OP increments make the F-test exact, so unrelated signals
-    (white noise, independent random walks, repeated values) give z of about 0 and
-    rarely above 3; a closed loop gives a large z whether it oscillates or not, a
-    noise-free limit cycle included.
-
-    Parameters
-    ----------
-    pv, op : ndarray of shape (n_samples,)
-        One loop, without NaN.
-    sp : ndarray or None, default=None
-        Setpoint; ``None`` or any NaN uses ``-PV`` about its mean as the error.
-    prewhiten : int, default=0
-        Order of an AR filter fitted to OP's increments and applied to both sides
-        first (Box and Jenkins' prewhitening). Smooth, autocorrelated OP increments
-        make the plain F-test too generous: OP and PV of two different loops, each
-        oscillating, can reach z of 5-10 without it.
-
-    Returns
-    -------
-    z : float
-        NaN when OP never moves or the record is shorter than 10 samples.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from sktiction.classifiers.learned import pv_op_coupling
-    >>> rng = np.random.default_rng(0)
-    >>> a, b = rng.normal(size=(2, 1000)).cumsum(axis=1)
-    >>> bool(pv_op_coupling(a, b) < 5), bool(pv_op_coupling(a, -2 * a + b / 10) > 20)
-    (True, True)
-    """
-    pv = np.asarray(pv, dtype=float)
-    if sp is None or np.isnan(sp).any():
-        err = -(pv - pv.mean())
-    else:
-        err = np.asarray(sp, dtype=float) - pv
-    y = np.diff(op)[1:]
-    if y.size < 10 or np.ptp(y) == 0:
-        return np.nan
-    # de[t] = err[t] - err[t - 1]: the error at lags 0 and 1 and its increment at lag 1
-    # span the increments at lags 0 and 1 too, without a redundant column that would
-    # give the F-test one numerator degree of freedom too many
-    de = np.diff(err)
-    A = np.column_stack([de[:-1], err[2:], err[1:-1], np.ones(y.size)])
-    if prewhiten:
-        p = int(min(prewhiten, max(1, y.size // 20)))
-        lagged = np.column_stack([y[p - 1 - k : y.size - 1 - k] for k in range(p)])
-        scale = float(np.mean(lagged * lagged)) or 1.0
-        # a little ridge keeps a noise-free ramp (a singular design) from blowing up
-        ar = np.linalg.solve(
-            lagged.T @ lagged + 1e-6 * len(lagged) * scale * np.eye(p), lagged.T @ y[p:]
-        )
-        y = _ar_filter(y, ar)
-        A = np.column_stack([_ar_filter(a, ar) for a in A[:, :-1].T] + [np.ones(y.size)])
-        if np.ptp(y) == 0:
-            return np.nan
-    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
-    r = y - A @ coef
-    sst = float(np.sum((y - y.mean()) ** 2))
-    k, dof = A.shape[1] - 1, y.size - A.shape[1]
-    r2 = 1.0 - float(r @ r) / sst
-    f = (r2 / k) / max(1.0 - r2, 1e-300) * dof
-    log_p = stats.f.logsf(f, k, dof)
-    return float(stats.norm.isf(np.exp(max(log_p, -700.0))))
-
-
-def _share(held, where):
-    return float(np.mean(held[where])) if where.any() else 0.0
-
-
-def domain_statistics(loops, status=None):
-    """Per-loop statistics of the domain rules: ``pv_op_coupling`` (plain and
-    ``_white``: prewhitened) and ``frozen_share``.
-
-    ``frozen_share`` is the share of sample steps in which PV and OP both stay
-    exactly the same (a historian holding its last value); NaN for loops that
-    :func:`~sktiction._validation.loop_status` (with ``require_op=True``; pass it as
-    ``status`` when known) rejects. All three are unchanged when a channel is shifted
-    or scaled. Where one channel is held on more than a tenth of the steps in which the
-    other moves (an export stepped tag by tag: deadband or swinging-door compression,
-    or a quantised channel; a historian holding whole rows holds both at once), each coupling
-    is the larger of the record's and that of the lines through each channel's changes
-    (:func:`~sktiction.cycles._signal.lines_through_changes`), these only where their
-    prewhitened coupling is at least 3: the steps of one tag rarely fall on those of the
-    other, which hides their relation sample by sample.
-    """
-    out = np.full((len(loops), len(DOMAIN_STATISTICS)), np.nan)
-    if status is None:
-        status = loop_status(loops, require_op=True)
-    for i, n in enumerate(loop_lengths(loops)):
-        if status[i] != STATUS_OK:
-            continue
-        pv, op = loops[i, :n, PV], loops[i, :n, OP]
-        sp = loops[i, :n, SP]
-        pv_held, op_held = np.diff(pv) == 0, np.diff(op) == 0
-        out[i, 0] = pv_op_coupling(pv, op, sp)
-        if out[i, 0] < _WEAK_COUPLING:  # only needed there
-            out[i, 1] = pv_op_coupling(pv, op, sp, prewhiten=_PREWHITEN_ORDER)
-        if max(_share(op_held, ~pv_held), _share(pv_held, ~op_held)) > _HELD_APART:
-            # an export stepped tag by tag moves PV and OP at times of their own: the
-            # lines through their changes relate them as the loop did. Their increments
-            # are smooth, which makes the plain test generous: they count only prewhitened
-            lines = lines_through_changes(pv), lines_through_changes(op)
-            white = pv_op_coupling(*lines, sp, prewhiten=_PREWHITEN_ORDER)
-            if white >= _MIN_WHITE:
-                out[i, 0] = np.fmax(out[i, 0], pv_op_coupling(*lines, sp))
-                out[i, 1] = np.fmax(out[i, 1], white) if out[i, 0] < _WEAK_COUPLING else np.nan
-        out[i, 2] = np.mean(pv_held & op_held)
-    return out
-
-
 _MODELS = ("ensemble", "boosting", "logistic")
 
 
@@ -410,10 +268,11 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
     min_samples : int, default=200
         Fewer samples give ``too_short``: too few for the dynamics of a loop.
     min_coupling : float, default=5.0
-        :func:`pv_op_coupling` below this gives ``pv_op_unrelated``: OP does not
-        follow the control error as a controller's output does (unrelated signals
-        give z below 3). Below 10 the coupling must also survive prewhitening
-        (z >= 3), so that two unrelated oscillating signals are not taken for a loop.
+        :func:`~sktiction.classifiers.pv_op_coupling` below this gives
+        ``pv_op_unrelated``: OP does not follow the control error as a controller's
+        output does (unrelated signals give z below 3). Below 10 the coupling must
+        also survive prewhitening (z >= 3), so that two unrelated oscillating signals
+        are not taken for a loop.
         A loop so refused whose PV or OP is drawn as straight lines through fewer than
         32 points (an export compressed about as much as the channel moves) gets
         ``too_compressed`` instead: the export, not the loop, hides the relation.
@@ -961,7 +820,7 @@ class LearnedStictionClassifier(ClassifierMixin, BaseEstimator):
 def make_learned_classifier(random_state=None, **params):
     """An untrained :class:`LearnedStictionClassifier`.
 
-    The default model's recipe (:func:`pretrained_classifier`)::
+    The default model's recipe (:func:`~sktiction.pretrained_classifier`)::
 
         X, y, meta = make_loops(1500, n_samples=2000, random_state=0, return_meta=True)
         keep = ((meta["y"] == 0) | meta["stiction_visible"]).to_numpy()  # slips show
@@ -988,172 +847,10 @@ def make_learned_classifier(random_state=None, **params):
     return LearnedStictionClassifier(random_state=random_state, **params)
 
 
-# Source the trained model depends on (relative to the package): a change to any of
-# them makes a cached model stale.
-_TRAINING_SOURCES = (
-    "_validation.py",
-    "_cleaning.py",
-    "classifiers/learned.py",
-    "classifiers/_persistence.py",
-    "cycles",
-    "features",
-    "simulation",
-    "datasets/_generators.py",
-)
-
-
-#: Training set of each world: ``make_loops`` arguments besides size and seed.
-WORLDS = {
-    # the richer default world draws slip-prone sluggish loops for every cause itself
-    "default": {},
-    # sktiction 0.1's clean world; a quarter of the sticky loops only slip during
-    # setpoint moves, so the model does not learn that no cycle means a healthy valve
-    "classic": {"world": "classic", "slip_fraction": 0.25},
-}
-
-
-def _training_set(random_state, n_loops, n_samples, world):
-    """The default model's training loops: ``make_loops`` of the world, in the default
-    world without the sticky loops whose slips the noise hides (:func:`_shows_its_label`;
-    the classic world keeps every loop)."""
-    from ..datasets import make_loops
-
-    X, y, meta = make_loops(
-        n_loops, n_samples=n_samples, random_state=random_state, return_meta=True,
-        **WORLDS[world],
-    )  # fmt: skip
-    keep = _shows_its_label(meta)
-    return X[keep], y[keep]
-
-
-def _shows_its_label(meta):
-    """Which simulated loops carry evidence of their label: every healthy loop, and the
-    sticky loops whose slips rise above the noise (``meta["stiction_visible"]``: median PV
-    change of a slip at least one noise standard deviation; a world without that column,
-    the classic one, keeps every loop).
-
-    Why: a sticky valve whose slips stay inside the noise leaves a record that looks like
-    a healthy loop's, so its label teaches the model that a featureless loop may be sticky
-    (``make_loops`` already redraws sticky loops that slip fewer than three times, for the
-    same reason). They stay in every test set. Leaving them out of training (about 80 of
-    1,500 loops) changed balanced accuracy, paired over 20 training draws
-    (``benchmarks/seed_spread.py 10 0 --compare`` and ``10 10 --compare``), by +0.008 on
-    the second simulator, +0.024 on the measured windows, +0.040 per measured valve and
-    -0.005 on the default world's own held-out loops, which include such loops. Leaving
-    out as many sticky loops picked at random gives the second simulator and the default
-    world the same change and the measured windows about half of it: most of the gain
-    comes from calling "sticky" less often (docs/realism.md). The slip measure is taken
-    before recording effects, so slips that a historian's grid or compression hides stay.
-    """
-    if "stiction_visible" not in meta:
-        return np.ones(len(meta), dtype=bool)
-    return ((meta["y"] == 0) | meta["stiction_visible"].astype(bool)).to_numpy()
-
-
-def training_key(random_state, n_loops, n_samples, world="default"):
-    """What a cached default model must have been built from (see :mod:`._persistence`)."""
-    from .. import __version__
-
-    root = Path(__file__).resolve().parents[1]
-    return {
-        "package": __version__,
-        "arguments": {
-            "random_state": random_state,
-            "n_loops": n_loops,
-            "n_samples": n_samples,
-            "world": world,
-        },
-        "source": _persistence.source_hash(root, _TRAINING_SOURCES),
-        **_persistence.runtime_versions(),
-    }
-
-
-def _build(random_state, n_loops, n_samples, world, n_jobs):
-    X, y = _training_set(random_state, n_loops, n_samples, world)
-    with warnings.catch_warnings():  # the few simulated loops it cannot judge: by design
-        warnings.filterwarnings("ignore", "(?s).*fit leaves them out", UserWarning)
-        return make_learned_classifier(random_state=random_state, n_jobs=n_jobs).fit(X, y)
-
-
-@functools.lru_cache(maxsize=4)
-def _trained(random_state, n_loops, n_samples, cache, world="default"):
-    def build():
-        return _build(random_state, n_loops, n_samples, world, 2)
-
-    if not cache:
-        return build(), "built (no cache)"
-    key = training_key(random_state, n_loops, n_samples, world)
-    name = f"learned-{world}-rs{random_state}-n{n_loops}-s{n_samples}"
-    return _persistence.load_or_build(name, key, build)
-
-
-def pretrained_classifier(
-    random_state=0, *, n_loops=1500, n_samples=2000, world="default", cache=True
-):
-    """The default learned classifier, trained on simulated loops once and then cached.
-
-    Trains :func:`make_learned_classifier` on ``make_loops(n_loops, n_samples)`` of
-    the chosen world (in the default world without the sticky loops whose slips stay
-    inside the noise: their records show nothing of their label) and stores it in the
-    user cache (``$SKTICTION_CACHE``, else ``~/.cache/sktiction``; see
-    :mod:`sktiction.classifiers._persistence`), keyed by the package version, these
-    arguments, a hash of the training code and the numpy / scikit-learn versions. A new
-    process loads it in well under 2 s; a missing, stale or corrupt entry is rebuilt
-    (under a minute on 2 cores with the defaults: ``python -m
-    sktiction.classifiers.learned`` times it). Within a process the result
-    is also kept in memory; a copy is returned so callers may change it.
-
-    Parameters
-    ----------
-    random_state : int, default=0
-        Seed of both the simulated loops and the booster.
-    n_loops : int, default=1500
-        Number of simulated training loops.
-    n_samples : int, default=2000
-        Samples per simulated loop.
-    world : {"default", "classic"}, default="default"
-        ``make_loops``' world to train on: the default world (loops as historians
-        record them) or sktiction 0.1's classic world, with a quarter of its sticky
-        loops showing only slips (``slip_fraction=0.25``), as the 0.1 model was trained.
-    cache : bool, default=True
-        Use the on-disk cache; ``False`` trains in memory only.
-
-    Returns
-    -------
-    classifier : LearnedStictionClassifier
-        Fitted; ``predict``, ``predict_proba``, ``diagnose`` on loops ``(n_loops, n_samples, 3)``.
-
-    Examples
-    --------
-    >>> from sktiction import pretrained_classifier
-    >>> clf = pretrained_classifier(n_loops=60, n_samples=1000, cache=False)
-    >>> clf.classes_.tolist()
-    [0, 1]
-    """
-    if world not in WORLDS:
-        raise ValueError(f"world must be one of {sorted(WORLDS)}; got {world!r}.")
-    model, _ = _trained(int(random_state), int(n_loops), int(n_samples), bool(cache), world)
-    return copy.deepcopy(model)
-
-
-def _main():  # pragma: no cover - timing helper: python -m sktiction.classifiers.learned
-    # through the imported module: a model built here by __main__'s own classes would be
-    # pickled as __main__.LearnedStictionClassifier, which no other process can load
-    from sktiction.classifiers import learned
-
-    t0 = time.perf_counter()
-    _, status = learned._trained(0, 1500, 2000, True, "default")
-    print(f"default learned classifier {status} in {time.perf_counter() - t0:.1f} s")
-
-
-if __name__ == "__main__":  # pragma: no cover
-    _main()
 
 __all__ = [
     "LearnedStictionClassifier",
     "make_learned_classifier",
     "make_loop_features",
     "normalise_loops",
-    "pretrained_classifier",
-    "pv_op_coupling",
 ]
