@@ -187,6 +187,13 @@ TARGETED = {
         "tests/test_realism.py::test_calibrated_world_settings_reach_the_loops",
         "tests/test_generators_meta.py",
     ],
+    # the worlds make_loops draws and simulates: the same tests reach them
+    **{f"sktiction/datasets/{m}.py": [
+        "tests/test_make_loops.py", "tests/test_make_loops_signals.py",
+        "tests/test_setpoint_nuisance.py", "tests/test_example.py",
+        "tests/test_realism.py::test_calibrated_world_settings_reach_the_loops",
+        "tests/test_generators_meta.py",
+    ] for m in ("_tuning", "_draws", "_classic_world", "_default_world")},
     "sktiction/datasets/_examples.py": [
         "tests/test_example.py", "tests/test_mutation_examples.py",
     ],

@@ -405,7 +405,7 @@ def test_batched_phase_crossovers_equal_one_loop_at_a_time():
     """Mixed plant orders (batches by number of states), sample times, a loop crossing
     late and one without a crossover (no delay, no lag: PI phase never reaches -180
     degrees) give each loop's own numbers to the bit."""
-    from sktiction.datasets._generators import _phase_crossovers, _plant_for, _settings
+    from sktiction.datasets._tuning import _phase_crossovers, _plant_for, _settings
     from sktiction.simulation import FOPTD, PIController
 
     rng = np.random.default_rng(0)
@@ -432,7 +432,7 @@ def test_batched_phase_crossovers_equal_one_loop_at_a_time():
 
 
 def test_relabel_equals_numpys_in_place_steps():
-    from sktiction.datasets._generators import _relabel
+    from sktiction.datasets._default_world import _relabel
 
     X = np.random.default_rng(0).normal(50.0, 5.0, (3, 100, 3))
     offset, scale = np.array([1.5, -30.0, 0.1]), np.array([0.05, 3.0, 17.0])
@@ -445,7 +445,7 @@ def test_relabel_equals_numpys_in_place_steps():
 
 
 def test_signs_draw_like_rng_choice():
-    from sktiction.datasets._generators import _signs
+    from sktiction.datasets._draws import _signs
 
     for seed in range(50):
         a, b = np.random.default_rng(seed), np.random.default_rng(seed)

@@ -28,6 +28,10 @@ _TRAINING_SOURCES = (
     "features",
     "simulation",
     "datasets/_generators.py",
+    "datasets/_tuning.py",
+    "datasets/_draws.py",
+    "datasets/_classic_world.py",
+    "datasets/_default_world.py",
 )
 
 
