@@ -6,7 +6,8 @@ oscillations, two frequencies at once, a drift hiding the first ACF lobe, interm
 stretches, short periods (about 10 samples per cycle), long records with few slow cycles,
 historian records with repeated or quantised samples, and regular cycles that an ACF
 criterion rejects (the stick_slip class: a sticky valve's saw-tooth under noise and
-holds). Each class below
+holds; the unequal_halves class: cycles that spend 15-35 % of each period on one side
+of their mean). Each class below
 makes signals of that kind (truth: oscillating); each non-oscillating class is a matching
 counterpart (coloured noise, random walk, steps, noise with repeated samples, drift alone,
 and the PV or OP of an ordinarily tuned PI loop holding its setpoint against a random-walk
@@ -79,6 +80,19 @@ def _wandering(rng, n, period, wander=0.15, amp_wander=0.2, shape="sine"):
     else:  # triangle
         c = 2 / np.pi * np.arcsin(np.sin(phase))
     return np.exp(la) * c
+
+
+def _pulses(rng, n, period, wander, amp_wander, duty):
+    """A cycle that spends ``duty`` of each period on its high side (height 1) and the
+    rest on its low side, the mean zero; period and amplitude wander as in
+    :func:`_wandering`."""
+    mem = np.exp(-1.0 / period)
+    lp = _ar1(rng, n, mem, 1.0)
+    lp = wander * lp / (lp.std() + 1e-12)
+    la = _ar1(rng, n, mem, 1.0)
+    la = amp_wander * la / (la.std() + 1e-12)
+    phase = (np.cumsum(1.0 / (period * np.exp(lp))) + rng.uniform()) % 1.0
+    return np.exp(la) * np.where(phase < duty, 1.0, -duty / (1.0 - duty))
 
 
 def _hold(rng, x, share):
@@ -198,6 +212,16 @@ def make_signal(kind, rng, info=None):
         if rng.random() < 0.5:
             x = _hold(rng, x, rng.uniform(0.15, 0.4))
         return x, 1, [p]
+    if kind == "unequal_halves":  # a valve that dwells longer on one side; a pump on/off
+        p = rng.uniform(20, top)
+        x = _pulses(rng, n, p, rng.uniform(0.12, 0.25), rng.uniform(0.1, 0.25),
+                    rng.uniform(0.15, 0.35))  # fmt: skip
+        if rng.random() < 0.5:  # through a first-order lag, as a process would pass it
+            x = np.asarray(_lag(x, rng.uniform(0.05, 0.2) * p))
+        x = rng.choice([-1, 1]) * x + _noise(rng, n, rng.uniform(0.1, 0.7))
+        if rng.random() < 0.5:
+            x = _hold(rng, x, rng.uniform(0.15, 0.4))
+        return x, 1, [p]
     if kind == "level_steps":  # operator or load moves, 3-30 times the cycle's amplitude
         p = rng.uniform(15, top)
         x = _wandering(rng, n, p, 0.08, 0.15, shape) + _noise(rng, n, rng.uniform(0.05, 0.4))
@@ -302,12 +326,13 @@ OSCILLATING = (
     "very_irregular",
     "level_steps",
     "stick_slip",
+    "unequal_halves",
 )
 QUIET = ("coloured_noise", "random_walk", "steps", "repeated_noise", "drift", "closed_loop")
 #: Random stream of each class (a class added later gets a new one, so that the others
 #: keep their signals).
-STREAM = {kind: i for i, kind in enumerate(OSCILLATING[:-3] + QUIET[:-1] + OSCILLATING[-3:-2]
-                                           + QUIET[-1:] + OSCILLATING[-2:])}  # fmt: skip
+STREAM = {kind: i for i, kind in enumerate(OSCILLATING[:-4] + QUIET[:-1] + OSCILLATING[-4:-3]
+                                           + QUIET[-1:] + OSCILLATING[-3:])}  # fmt: skip
 
 
 def period_found(analysis, periods, tol=0.2):

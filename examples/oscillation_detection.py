@@ -5,8 +5,9 @@ This example reads it three ways:
 
 1. the six shipped plant windows (``load_plant_examples``): for PV and OP, the decision,
    the oscillation index (0-1, 0.5 is the threshold), the period(s) and Thornhill's
-   regularity r of each component, and the cycles' fall share (0.5 for a symmetric cycle,
-   near 0 or 1 for a stick-slip saw-tooth, which ramps slowly and slips fast);
+   regularity r of each component, and the cycles' fall share and above share (0.5 for a
+   symmetric cycle; the fall share near 0 or 1 for a stick-slip saw-tooth, which ramps
+   slowly and slips fast, the above share far from 0.5 for cycles that dwell on one side);
 2. a cycle of 1 % of OP's span under two operator moves of 15 % and 25 %: read as it is
    the moves bury the cycle; read again without them it is found, and
    ``CycleAnalysis.level_shifts`` says where they were;
@@ -37,6 +38,7 @@ def describe(x):
         "periods": np.round(a.periods, 1).tolist(),
         "regularity r": np.round(a.regularities, 2).tolist(),
         "fall share": round(a.fall_share, 2),
+        "above share": round(a.above_share, 2),
     }
 
 

@@ -8,7 +8,7 @@ import pytest
 
 from sktiction import OscillationFeatures
 from sktiction.cycles import analyze_cycles, detect_oscillations
-from sktiction.cycles._analysis import CONFIRM_ACF, _fall_shares, _lopsided
+from sktiction.cycles._analysis import CONFIRM_ACF, _above_shares, _fall_shares, _lopsided
 
 # the nearest benchmarks/ above this file (mutation testing runs a copy of tests/ one
 # level further down)
@@ -306,11 +306,57 @@ def test_lopsided_cycles_confirm_a_saw_tooth_under_broadband_noise():
     assert hits >= 21
 
 
+def _pulse_train(rng, shortest, longest, size=751):
+    """Cycles whose length is drawn from ``shortest``-``longest`` samples each time, high
+    (about 1) for 20-30 % of each and low (a third of that, negative) for the rest."""
+    cycles = []
+    while sum(map(len, cycles)) < size:
+        period, amp = int(rng.uniform(shortest, longest)), 1 + 0.1 * rng.normal()
+        high = int(period * rng.uniform(0.2, 0.3))
+        cycles.append(np.r_[np.full(high, amp), np.full(period - high, -amp / 3)])
+    return np.concatenate(cycles)[:size] + 0.03 * rng.normal(size=size)
+
+
+@pytest.mark.parametrize(
+    "shape,low,high",
+    [("pulses", 0.15, 0.35), ("pulses_down", 0.65, 0.85), ("sine", 0.45, 0.55),
+     ("triangle", 0.45, 0.55), ("saw", 0.45, 0.55)],
+)  # fmt: skip
+def test_above_share_reads_how_long_a_cycle_stays_above_its_mean(shape, low, high):
+    # high for a fifth of each 80-sample cycle: the crossings of the moving mean put
+    # about a quarter of each cycle above it; a sine, a triangle, a saw-tooth: a half
+    phase = 2 * np.pi * np.arange(2000) / 80
+    pulses = np.where((phase / (2 * np.pi)) % 1 < 0.2, 1.0, -0.25)
+    x = {"pulses": pulses, "pulses_down": -pulses, "sine": np.sin(phase),
+         "triangle": 2 / np.pi * np.arcsin(np.sin(phase)),
+         "saw": (phase / np.pi) % 2 - 1}[shape]  # fmt: skip
+    a = analyze_cycles(x + 0.05 * np.random.default_rng(0).normal(size=x.size))
+    assert a.oscillating and len(a.cycles) >= 20
+    assert low <= a.above_share <= high
+
+
+def test_unequal_halves_confirm_a_pulse_train_under_broadband_noise():
+    # cycles of 40-120 samples high for 20-30 % of each, under white noise of 0.4 of
+    # their height: the first ACF peak stays at or below CONFIRM_ACF in most (24 of 30);
+    # the cycles still stay shorter above their mean than below, which noise does not
+    # do. Found: 13 of 30; 6 when only the ACF and the fall shares may confirm
+    rng = np.random.default_rng(11)
+    hits = low_acf = 0
+    for _ in range(30):
+        a = analyze_cycles(_pulse_train(rng, 40, 120) + 0.4 * rng.normal(size=751))
+        hits += a.oscillating
+        low_acf += a.acf_strength <= CONFIRM_ACF
+        assert not a.oscillating or a.above_share < 0.5
+    assert low_acf >= 20
+    assert hits >= 11
+
+
 def test_noise_of_any_spectrum_seldom_reads_lopsided():
-    # a Gaussian process reads the same backwards, so its cycles fall as long as they
-    # rise: the sign test at LOPSIDED_LEVEL (two-sided) with the margin passes 1.5 % at
-    # most of the benchmark's coloured and held noise whose cycles it reads (3 of 319
-    # today, 7 without the margin)
+    # a stationary Gaussian process reads the same backwards and upside down, so its
+    # cycles fall as long as they rise and stay as long above their mean as below: the
+    # two sign tests at LOPSIDED_LEVEL (two-sided) with the margin pass 2.5 % at most of
+    # the benchmark's coloured and held noise whose cycles they read (5 of 319 today:
+    # 3 by their fall, 2 by their time above the mean; 11 without the margin)
     bench = _bench()
     read = lopsided = 0
     for kind in ("coloured_noise", "repeated_noise"):
@@ -319,9 +365,12 @@ def test_noise_of_any_spectrum_seldom_reads_lopsided():
             a = analyze_cycles(bench.make_signal(kind, np.random.default_rng([s, stream]))[0])
             if len(a.cycles):
                 read += 1
-                lopsided += _lopsided(_fall_shares(a.peaks, a.signs, a.cycles[:, 0]))
+                kept = a.cycles[:, 0]
+                lopsided += _lopsided(_fall_shares(a.peaks, a.signs, kept)) or _lopsided(
+                    _above_shares(a.crossings, a.signs, kept)
+                )
     assert read >= 250
-    assert lopsided <= 0.015 * read
+    assert lopsided <= 0.025 * read
 
 
 def test_coloured_noise_with_a_resonance_bump_is_not_an_oscillation():

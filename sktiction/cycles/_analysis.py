@@ -36,9 +36,10 @@ REGULARITY_THRESHOLD = 1.0
 CYCLE_EVIDENCE = MAX_CONFIRMATION
 CONFIRM_ACF = 0.2
 #: Lopsided cycles confirm instead of the ACF (see :func:`_lopsided`): a sign test of
-#: the cycles' fall shares against one half, at this two-sided level, ...
+#: the cycles' fall shares, or of their shares above the mean, against one half, each at
+#: this two-sided level, ...
 LOPSIDED_LEVEL = 0.05
-#: ... with the median fall share more than this far from one half.
+#: ... with the median share more than this far from one half.
 LOPSIDED_MARGIN = 0.1
 
 
@@ -90,6 +91,12 @@ class CycleAnalysis:
         cycle's first extreme; the median over the cycles. About 0.5 for a symmetric
         cycle (a sine, a triangle, a square wave), near 0 or 1 for a saw-tooth,
         whose slip is fast; NaN when no cycle is followed by an extreme in the record.
+    above_share : float
+        How long the cycles stay above their moving mean: for each full cycle in
+        segments, its positive half's duration as a share of the cycle's; the median
+        over the cycles. About 0.5 for a cycle as long above its mean as below (a sine,
+        a triangle, a saw-tooth, a square wave), further from it for a pulse train or a
+        valve that dwells longer on one side; NaN when there is no cycle.
     """
 
     centred: np.ndarray
@@ -109,6 +116,7 @@ class CycleAnalysis:
     components: list = field(default_factory=list)
     level_shifts: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=int))
     fall_share: float = np.nan
+    above_share: float = np.nan
 
     @property
     def half_cycles(self):
@@ -265,18 +273,30 @@ def _fall_shares(peaks, signs, kept):
     return falling[ok] / total[ok]
 
 
+def _above_shares(crossings, signs, kept):
+    """Share of each kept full cycle (crossings k, k+1, k+2) spent above the moving
+    mean: its positive half's duration over the cycle's."""
+    kept = np.asarray(kept, dtype=np.intp)
+    first = crossings[kept + 1] - crossings[kept]
+    total = crossings[kept + 2] - crossings[kept]
+    return np.where(signs[kept] > 0, first, total - first) / total
+
+
 def _lopsided(shares):
-    """Whether the cycles fall faster than they rise, or rise faster than they fall,
-    beyond chance: a stick-slip saw-tooth (a slow ramp while the valve sticks, a fast
-    slip) does, noise of any spectrum does not, as a Gaussian process reads the same
-    backwards. Sign test of the shares against one half (two-sided, exact) at
-    :data:`LOPSIDED_LEVEL`, and a median share more than :data:`LOPSIDED_MARGIN` from
-    it (at level 0.05: six of six cycles on one side, seven of seven, eight of nine).
+    """Whether the cycles' shares (of time falling, or of time above the mean) sit on
+    one side of one half beyond chance. A stationary Gaussian process of any spectrum
+    reads the same backwards and upside down, so its cycles fall as long as they rise
+    and stay as long above their mean as below; a stick-slip saw-tooth (a slow ramp
+    while the valve sticks, a fast slip) breaks the first symmetry, a pulse train or a
+    valve that dwells longer on one side the second. Sign test of the shares against
+    one half (two-sided, exact) at :data:`LOPSIDED_LEVEL`, and a median share more than
+    :data:`LOPSIDED_MARGIN` from it (at level 0.05: six of six cycles on one side, seven
+    of seven, eight of nine).
 
     Such cycles confirm a component when the signal's first ACF peak is low, as it is
-    for a saw-tooth whose period wanders under broadband noise: the wandering period
-    scrambles its harmonics' phase from cycle to cycle, and the noise adds to the ACF's
-    lag 0, which scales every other lag down."""
+    for a saw-tooth or a pulse train whose period wanders under broadband noise: the
+    wandering period scrambles the harmonics' phase from cycle to cycle, and the noise
+    adds to the ACF's lag 0, which scales every other lag down."""
     d = shares[shares != 0.5] - 0.5
     n = d.size
     if n < 3 or abs(np.median(shares) - 0.5) <= LOPSIDED_MARGIN:  # ties left out of n
@@ -329,9 +349,10 @@ def analyze_cycles(
 
     Both readings are combined: when the cycles in segments are regular (r > 1) and
     either the first ACF peak exceeds :data:`CONFIRM_ACF` or the cycles are lopsided
-    (they rise faster than they fall, or fall faster than they rise, beyond chance, as
-    a stick-slip saw-tooth does: :data:`LOPSIDED_LEVEL`, :data:`LOPSIDED_MARGIN`,
-    ``fall_share``), the component of their period
+    (they rise faster than they fall or the reverse, as a stick-slip saw-tooth does, or
+    stay longer on one side of their mean than on the other, as a pulse train does,
+    beyond chance: :data:`LOPSIDED_LEVEL`, :data:`LOPSIDED_MARGIN`, ``fall_share``,
+    ``above_share``), the component of their period
     gets :data:`CYCLE_EVIDENCE` added to its score (so a record of three to six
     clean slow cycles, which the spectrum alone cannot tell from a random walk, is
     still found), and the decision is read again.
@@ -461,9 +482,10 @@ def _read_cycles(x, min_cycles, hysteresis, tolerance, min_acf, threshold, domin
     analysis.segments = segments
     analysis.period = float(fast_median(p))
     analysis.regularity = float(regularity)
-    shares = _fall_shares(peaks, signs, kept)
-    analysis.fall_share = float(np.median(shares)) if shares.size else np.nan
-    confirmed = strength > CONFIRM_ACF or _lopsided(shares)
+    falls, aboves = _fall_shares(peaks, signs, kept), _above_shares(crossings, signs, kept)
+    analysis.fall_share = float(np.median(falls)) if falls.size else np.nan
+    analysis.above_share = float(np.median(aboves))
+    confirmed = strength > CONFIRM_ACF or _lopsided(falls) or _lopsided(aboves)
     if regularity > REGULARITY_THRESHOLD and confirmed and CYCLE_EVIDENCE > 0:
         # regular cycles in the time domain confirm the component of their period
         boosted = [
