@@ -270,42 +270,6 @@ def test_a_stick_slip_saw_tooth_of_wandering_period_and_held_rows_is_found(
     assert hits >= found
 
 
-@pytest.mark.parametrize(
-    "shape,low,high",
-    [("saw_up", 0.0, 0.1), ("saw_down", 0.9, 1.0), ("sine", 0.45, 0.55),
-     ("triangle", 0.45, 0.55), ("square", 0.35, 0.65)],
-)  # fmt: skip
-def test_fall_share_reads_how_long_a_cycle_falls(shape, low, high):
-    # a ramp with a fast return falls in a few samples of its 80, a sine and a triangle
-    # fall for half of each cycle; a square wave's extremes sit anywhere on its flat tops
-    phase = 2 * np.pi * np.arange(2000) / 80
-    ramp = (phase / np.pi) % 2 - 1
-    x = {"saw_up": ramp, "saw_down": -ramp, "sine": np.sin(phase),
-         "triangle": 2 / np.pi * np.arcsin(np.sin(phase)),
-         "square": np.sign(np.sin(phase))}[shape]  # fmt: skip
-    a = analyze_cycles(x + 0.05 * np.random.default_rng(0).normal(size=x.size))
-    assert a.oscillating and len(a.cycles) >= 20
-    assert low <= a.fall_share <= high
-
-
-def test_lopsided_cycles_confirm_a_saw_tooth_under_broadband_noise():
-    # saw-teeth of 40-120 samples (rising over 60-85 % of each) under white noise of half
-    # their amplitude: the noise adds to the ACF's lag 0 and the wandering period
-    # scrambles the harmonics' phase, so the first ACF peak stays at or below
-    # CONFIRM_ACF in most (21 of 30); the cycles still rise slower than they fall (the
-    # median share falling is under one half in every record), which noise does not
-    # do. Found: 23 of 30; 13 with the ACF alone as confirmation
-    rng = np.random.default_rng(11)
-    hits = low_acf = 0
-    for _ in range(30):
-        a = analyze_cycles(_saw_tooth(rng, 40, 120) + 0.5 * rng.normal(size=751))
-        hits += a.oscillating
-        low_acf += a.acf_strength <= CONFIRM_ACF
-        assert not len(a.cycles) or a.fall_share < 0.5
-    assert low_acf >= 15
-    assert hits >= 21
-
-
 def _pulse_train(rng, shortest, longest, size=751):
     """Cycles whose length is drawn from ``shortest``-``longest`` samples each time, high
     (about 1) for 20-30 % of each and low (a third of that, negative) for the rest."""
@@ -317,38 +281,61 @@ def _pulse_train(rng, shortest, longest, size=751):
     return np.concatenate(cycles)[:size] + 0.03 * rng.normal(size=size)
 
 
-@pytest.mark.parametrize(
-    "shape,low,high",
-    [("pulses", 0.15, 0.35), ("pulses_down", 0.65, 0.85), ("sine", 0.45, 0.55),
-     ("triangle", 0.45, 0.55), ("saw", 0.45, 0.55)],
-)  # fmt: skip
-def test_above_share_reads_how_long_a_cycle_stays_above_its_mean(shape, low, high):
-    # high for a fifth of each 80-sample cycle: the crossings of the moving mean put
-    # about a quarter of each cycle above it; a sine, a triangle, a saw-tooth: a half
-    phase = 2 * np.pi * np.arange(2000) / 80
+def _shape(name, period=80, size=2000):
+    """A clean cycle of a known shape: a ramp with a fast return ("saw_up", mirrored in
+    "saw_down"), high for a fifth of each cycle ("pulses", mirrored in "pulses_down"), a
+    sine, a triangle, a square wave."""
+    phase = 2 * np.pi * np.arange(size) / period
+    ramp = (phase / np.pi) % 2 - 1
     pulses = np.where((phase / (2 * np.pi)) % 1 < 0.2, 1.0, -0.25)
-    x = {"pulses": pulses, "pulses_down": -pulses, "sine": np.sin(phase),
-         "triangle": 2 / np.pi * np.arcsin(np.sin(phase)),
-         "saw": (phase / np.pi) % 2 - 1}[shape]  # fmt: skip
+    return {"saw_up": ramp, "saw_down": -ramp, "pulses": pulses, "pulses_down": -pulses,
+            "sine": np.sin(phase), "triangle": 2 / np.pi * np.arcsin(np.sin(phase)),
+            "square": np.sign(np.sin(phase))}[name]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "share,shape,low,high",
+    [("fall_share", "saw_up", 0.0, 0.1), ("fall_share", "saw_down", 0.9, 1.0),
+     ("fall_share", "sine", 0.45, 0.55), ("fall_share", "triangle", 0.45, 0.55),
+     ("fall_share", "square", 0.35, 0.65),
+     ("above_share", "pulses", 0.15, 0.35), ("above_share", "pulses_down", 0.65, 0.85),
+     ("above_share", "sine", 0.45, 0.55), ("above_share", "triangle", 0.45, 0.55),
+     ("above_share", "saw_up", 0.45, 0.55)],
+)  # fmt: skip
+def test_cycle_shares_of_known_shapes(share, shape, low, high):
+    # of its 80 samples a ramp with a fast return falls for a few, a sine and a triangle
+    # for half (a square wave's extremes sit anywhere on its flat tops); the crossings of
+    # the moving mean put about a quarter of a pulse train high for a fifth above it, and
+    # half of a sine, a triangle or a saw-tooth
+    x = _shape(shape)
     a = analyze_cycles(x + 0.05 * np.random.default_rng(0).normal(size=x.size))
     assert a.oscillating and len(a.cycles) >= 20
-    assert low <= a.above_share <= high
+    assert low <= getattr(a, share) <= high
 
 
-def test_unequal_halves_confirm_a_pulse_train_under_broadband_noise():
-    # cycles of 40-120 samples high for 20-30 % of each, under white noise of 0.4 of
-    # their height: the first ACF peak stays at or below CONFIRM_ACF in most (24 of 30);
-    # the cycles still stay shorter above their mean than below, which noise does not
-    # do. Found: 13 of 30; 6 when only the ACF and the fall shares may confirm
+@pytest.mark.parametrize(
+    "cycles,noise,share,low_acf_at_least,found",
+    [(_saw_tooth, 0.5, "fall_share", 15, 21), (_pulse_train, 0.4, "above_share", 20, 11)],
+)
+def test_lopsided_cycles_confirm_under_broadband_noise(
+    cycles, noise, share, low_acf_at_least, found
+):
+    # cycles of 40-120 samples under white noise (half a saw-tooth's amplitude, rising
+    # over 60-85 % of each; 0.4 of a pulse train's height, high for 20-30 % of each): the
+    # noise adds to the ACF's lag 0 and the wandering period scrambles the harmonics'
+    # phase, so the first ACF peak stays at or below CONFIRM_ACF in most (21 and 24 of
+    # 30); the saw-teeth still rise slower than they fall, the pulses stay shorter above
+    # their mean than below (each record's median share under one half), which noise does
+    # not do. Found: 23 and 13 of 30; 13 and 6 without the test of that share
     rng = np.random.default_rng(11)
     hits = low_acf = 0
     for _ in range(30):
-        a = analyze_cycles(_pulse_train(rng, 40, 120) + 0.4 * rng.normal(size=751))
+        a = analyze_cycles(cycles(rng, 40, 120) + noise * rng.normal(size=751))
         hits += a.oscillating
         low_acf += a.acf_strength <= CONFIRM_ACF
-        assert not a.oscillating or a.above_share < 0.5
-    assert low_acf >= 20
-    assert hits >= 11
+        assert not a.oscillating or getattr(a, share) < 0.5
+    assert low_acf >= low_acf_at_least
+    assert hits >= found
 
 
 def test_noise_of_any_spectrum_seldom_reads_lopsided():
