@@ -7,6 +7,9 @@ the model cache's key and the pretrained model's arguments (with the training st
 """
 
 import copy
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pandas as pd
@@ -632,6 +635,35 @@ def test_fit_refuses_labels_and_loops_it_cannot_learn_from(data):
 
 
 # ---- the pretrained model ---------------------------------------------------------------------
+
+
+def test_the_training_sources_hold_every_module_that_makes_the_training_loops():
+    # a module of make_loops left out of the cache key would let a model trained on
+    # other loops be loaded as current: list what make_loops imports, in a new process
+    code = (
+        "import sys; from sktiction.datasets import make_loops; "
+        "print(' '.join(m.__file__ for n, m in sys.modules.items() "
+        "if n.startswith('sktiction.') and getattr(m, '__file__', None)))"
+    )
+    root = persistence.Path(pretrained_module.__file__).resolve().parents[1]
+    env = {**os.environ, "PYTHONPATH": str(root.parent)}  # this package, not another copy
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    loaded = [persistence.Path(f).resolve().relative_to(root) for f in out.stdout.split()]
+    datasets = [f for f in loaded if f.parts[0] == "datasets" and f.name != "__init__.py"]
+    assert persistence.Path("datasets/_generators.py") in datasets, out.stderr
+    sources = [persistence.Path(s) for s in pretrained_module._TRAINING_SOURCES]
+    for f in datasets:
+        assert any(f == s or s in f.parents for s in sources), f
+
+
+def test_names_moved_out_of_the_learned_module_are_still_found_there():
+    from sktiction import pretrained_classifier
+    from sktiction.classifiers import pv_op_coupling as coupling
+
+    assert learned_module.pretrained_classifier is pretrained_classifier
+    assert learned_module.pv_op_coupling is coupling
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        _ = learned_module.nothing
 
 
 def test_training_key_names_what_the_model_was_built_from():

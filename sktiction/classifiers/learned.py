@@ -847,10 +847,24 @@ def make_learned_classifier(random_state=None, **params):
     return LearnedStictionClassifier(random_state=random_state, **params)
 
 
-
 __all__ = [
     "LearnedStictionClassifier",
     "make_learned_classifier",
     "make_loop_features",
     "normalise_loops",
 ]
+
+
+def __getattr__(name):
+    # names this module held before the thirty-seventh session moved them out: code that
+    # imported them from here still finds them (imported on first use: _pretrained
+    # imports this module)
+    if name == "pretrained_classifier":
+        from ._pretrained import pretrained_classifier
+
+        return pretrained_classifier
+    if name == "pv_op_coupling":
+        from ._coupling import pv_op_coupling
+
+        return pv_op_coupling
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -30,7 +30,8 @@ from ._signal import (
 REGULARITY_THRESHOLD = 1.0
 #: Score (see :func:`~sktiction.cycles.detect_oscillations`) added to a component when
 #: the time-domain cycles of its period are regular (r > 1) and the first ACF peak of
-#: the signal exceeds :data:`CONFIRM_ACF`: two independent readings of one cycle.
+#: the signal exceeds :data:`CONFIRM_ACF` or the cycles are lopsided (:func:`_lopsided`):
+#: two independent readings of one cycle.
 #: The most it may add is :data:`~sktiction.cycles._oscillation.MAX_CONFIRMATION`: the
 #: detector prunes peaks that could not reach the threshold even with it.
 CYCLE_EVIDENCE = MAX_CONFIRMATION
@@ -291,7 +292,7 @@ def _lopsided(shares):
     valve that dwells longer on one side the second. Sign test of the shares against
     one half (two-sided, exact) at :data:`LOPSIDED_LEVEL`, and a median share more than
     :data:`LOPSIDED_MARGIN` from it (at level 0.05: six of six cycles on one side, seven
-    of seven, eight of nine).
+    of seven, eight of eight or of nine).
 
     Such cycles confirm a component when the signal's first ACF peak is low, as it is
     for a saw-tooth or a pulse train whose period wanders under broadband noise: the
