@@ -25,7 +25,7 @@ from tslearn.metrics import cdist_dtw
 from sktiction import AreaRatio, TemplateDistances, pretrained_classifier
 from sktiction._validation import loop_lengths
 from sktiction.datasets import make_loops
-from sktiction.features.stiction_model import _play, _sse, fit_stiction_band
+from sktiction.features.stiction_model import _play, fit_stiction_band
 from sktiction.features.templates import SHAPES, cycle_templates, resample
 from sktiction.reports import scan_loops
 
@@ -60,13 +60,27 @@ def tslearn_cells(td, X):
     return cells
 
 
+def _lstsq_sse(pv, x, n_lags):
+    """Residual sum of squares of the least-squares ARX fit whose rows t >= n_lags are
+    ``[pv[t-1], pv[t-2], x[t-1..t-n_lags], 1]`` against ``pv[t]``: the design the package
+    solves from its normal equations, built whole as the replaced grid did."""
+    rows = np.arange(n_lags, pv.size)
+    A = np.column_stack(
+        [pv[rows - 1], pv[rows - 2]] + [x[rows - k] for k in range(1, n_lags + 1)]
+        + [np.ones(rows.size)]
+    )
+    coef, *_ = np.linalg.lstsq(A, pv[rows], rcond=None)
+    r = pv[rows] - A @ coef
+    return float(r @ r)
+
+
 def lstsq_grid(pv, op, n_lags=8):
     """The valve-model fit as it was: one least-squares fit of the design per band."""
     n_lags = int(min(n_lags, max(2, pv.size // 20)))
     span = float(np.ptp(op))
     fracs = np.geomspace(0.002, 0.6, 24)
-    base = _sse(pv, op, n_lags)
-    sses = np.array([_sse(pv, _play(op, f * span), n_lags) for f in fracs])
+    base = _lstsq_sse(pv, op, n_lags)
+    sses = np.array([_lstsq_sse(pv, _play(op, f * span), n_lags) for f in fracs])
     best = int(np.argmin(sses))
     if sses[best] >= base:
         return 0.0, 0.0
