@@ -63,8 +63,10 @@ def _ar2(rng, n, period, zeta):
     return y / y.std()
 
 
-def _wandering(rng, n, period, wander=0.15, amp_wander=0.2, shape="sine"):
-    """A cycle whose period and amplitude wander (log random AR(1) of one-cycle memory)."""
+def _wandering(rng, n, period, wander=0.15, amp_wander=0.2, shape="sine", duty=0.5):
+    """A cycle whose period and amplitude wander (log random AR(1) of one-cycle memory).
+    A "pulse" spends ``duty`` of each period on its high side (height 1) and the rest on
+    its low side, the mean zero."""
     mem = np.exp(-1.0 / period)  # wander correlates over about one period
     lp = _ar1(rng, n, mem, 1.0)
     lp = wander * lp / (lp.std() + 1e-12)
@@ -77,22 +79,11 @@ def _wandering(rng, n, period, wander=0.15, amp_wander=0.2, shape="sine"):
         c = np.tanh(4 * np.sin(phase)) / np.tanh(4)
     elif shape == "saw":  # a ramp over the whole cycle, then a jump back
         c = (phase / np.pi) % 2 - 1
+    elif shape == "pulse":
+        c = np.where((phase / (2 * np.pi)) % 1.0 < duty, 1.0, -duty / (1.0 - duty))
     else:  # triangle
         c = 2 / np.pi * np.arcsin(np.sin(phase))
     return np.exp(la) * c
-
-
-def _pulses(rng, n, period, wander, amp_wander, duty):
-    """A cycle that spends ``duty`` of each period on its high side (height 1) and the
-    rest on its low side, the mean zero; period and amplitude wander as in
-    :func:`_wandering`."""
-    mem = np.exp(-1.0 / period)
-    lp = _ar1(rng, n, mem, 1.0)
-    lp = wander * lp / (lp.std() + 1e-12)
-    la = _ar1(rng, n, mem, 1.0)
-    la = amp_wander * la / (la.std() + 1e-12)
-    phase = (np.cumsum(1.0 / (period * np.exp(lp))) + rng.uniform()) % 1.0
-    return np.exp(la) * np.where(phase < duty, 1.0, -duty / (1.0 - duty))
 
 
 def _hold(rng, x, share):
@@ -214,8 +205,8 @@ def make_signal(kind, rng, info=None):
         return x, 1, [p]
     if kind == "unequal_halves":  # a valve that dwells longer on one side; a pump on/off
         p = rng.uniform(20, top)
-        x = _pulses(rng, n, p, rng.uniform(0.12, 0.25), rng.uniform(0.1, 0.25),
-                    rng.uniform(0.15, 0.35))  # fmt: skip
+        x = _wandering(rng, n, p, rng.uniform(0.12, 0.25), rng.uniform(0.1, 0.25), "pulse",
+                       rng.uniform(0.15, 0.35))  # fmt: skip
         if rng.random() < 0.5:  # through a first-order lag, as a process would pass it
             x = np.asarray(_lag(x, rng.uniform(0.05, 0.2) * p))
         x = rng.choice([-1, 1]) * x + _noise(rng, n, rng.uniform(0.1, 0.7))

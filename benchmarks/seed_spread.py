@@ -56,6 +56,7 @@ from sktiction.classifiers import make_learned_classifier  # noqa: E402
 from sktiction.classifiers._pretrained import _shows_its_label, _training_set  # noqa: E402
 from sktiction.classifiers.learned import normalise_loops  # noqa: E402
 from sktiction.datasets import make_loops  # noqa: E402
+from sktiction.datasets._measured import pad_loops  # noqa: E402
 
 
 def _evaluation_sets(clf):
@@ -64,11 +65,9 @@ def _evaluation_sets(clf):
     X, y, _ = make_independent_loops(400, 6000, random_state=2026)
     sets["second simulator"] = (X, y, None)
     third = [make_third_loops(400, random_state=seed) for seed in (0, 1)]
-    n = max(X3.shape[1] for X3, _, _ in third)
     sets["third simulator"] = (
-        np.concatenate([np.pad(X3, ((0, 0), (0, n - X3.shape[1]), (0, 0)),
-                               constant_values=np.nan) for X3, _, _ in third]),
-        np.concatenate([y3 for _, y3, _ in third]), None)  # fmt: skip
+        pad_loops([X3 for X3, _, _ in third]), np.concatenate([y3 for _, y3, _ in third]), None
+    )
     measured = load_measured()
     if measured is not None:
         Xm, ym, _, meta = measured
@@ -140,10 +139,7 @@ def _with_simulator(make, seed, X, y, n_loops=600):
     """The recipe's loops plus ``n_loops`` of another simulator (``make(n_loops, seed)``
     returns its loops and labels first), NaN-padded alike."""
     X2, y2 = make(n_loops, 500 + seed)[:2]
-    n = max(X.shape[1], X2.shape[1])
-    pad = [np.pad(a, ((0, 0), (0, n - a.shape[1]), (0, 0)), constant_values=np.nan)
-           for a in (X, X2)]  # fmt: skip
-    return np.concatenate(pad), np.concatenate([y, y2])
+    return pad_loops([X, X2]), np.concatenate([y, y2])
 
 
 #: simulators that ``--second-simulator`` and ``--third-simulator`` add to training

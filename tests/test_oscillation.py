@@ -241,15 +241,25 @@ def test_cycles_survive_what_a_plant_record_does_to_them(name, distort):
         assert not analyze_cycles(distort(rng.normal(size=t.size), rng)).oscillating, name
 
 
-def _saw_tooth(rng, shortest, longest, size=751):
-    """A sticky valve's OP: teeth rising over 60-85 % of a cycle whose length is drawn
-    from ``shortest``-``longest`` samples each time, amplitude wandering by 10 %."""
-    teeth = []
-    while sum(map(len, teeth)) < size:
+def _drawn_cycles(rng, shortest, longest, cycle, size=751):
+    """Cycles whose length is drawn from ``shortest``-``longest`` samples each time and
+    amplitude wanders by 10 %, shaped by ``cycle(period, amp)`` (which may draw more), with
+    a little white noise."""
+    cycles = []
+    while sum(map(len, cycles)) < size:
         period, amp = int(rng.uniform(shortest, longest)), 1 + 0.1 * rng.normal()
+        cycles.append(cycle(period, amp))
+    return np.concatenate(cycles)[:size] + 0.03 * rng.normal(size=size)
+
+
+def _saw_tooth(rng, shortest, longest, size=751):
+    """A sticky valve's OP: teeth rising over 60-85 % of each cycle."""
+
+    def tooth(period, amp):
         rise = int(period * rng.uniform(0.6, 0.85))
-        teeth.append(np.r_[np.linspace(-amp, amp, rise), np.linspace(amp, -amp, period - rise)])
-    return np.concatenate(teeth)[:size] + 0.03 * rng.normal(size=size)
+        return np.r_[np.linspace(-amp, amp, rise), np.linspace(amp, -amp, period - rise)]
+
+    return _drawn_cycles(rng, shortest, longest, tooth, size)
 
 
 @pytest.mark.parametrize("shortest,longest,tried,found", [(50, 100, 20, 20), (40, 120, 30, 27)])
@@ -271,14 +281,14 @@ def test_a_stick_slip_saw_tooth_of_wandering_period_and_held_rows_is_found(
 
 
 def _pulse_train(rng, shortest, longest, size=751):
-    """Cycles whose length is drawn from ``shortest``-``longest`` samples each time, high
-    (about 1) for 20-30 % of each and low (a third of that, negative) for the rest."""
-    cycles = []
-    while sum(map(len, cycles)) < size:
-        period, amp = int(rng.uniform(shortest, longest)), 1 + 0.1 * rng.normal()
+    """Cycles high (about 1) for 20-30 % of each and low (a third of that, negative) for
+    the rest."""
+
+    def pulse(period, amp):
         high = int(period * rng.uniform(0.2, 0.3))
-        cycles.append(np.r_[np.full(high, amp), np.full(period - high, -amp / 3)])
-    return np.concatenate(cycles)[:size] + 0.03 * rng.normal(size=size)
+        return np.r_[np.full(high, amp), np.full(period - high, -amp / 3)]
+
+    return _drawn_cycles(rng, shortest, longest, pulse, size)
 
 
 def _shape(name, period=80, size=2000):
