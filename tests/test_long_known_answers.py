@@ -9,6 +9,7 @@ import pandas as pd
 import pytest
 
 from sktiction.datasets import read_loop_file
+from sktiction.datasets._columns import _is_time
 from sktiction.datasets._long import (
     _day_order,
     _held,
@@ -21,7 +22,6 @@ from sktiction.datasets._long import (
     pivot_long,
     time_owners,
 )
-from sktiction.datasets._measured import _is_time
 from sktiction.datasets._readers import FileError, Table
 
 START = pd.Timestamp("2026-01-05 08:00")

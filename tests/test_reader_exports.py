@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 
 from sktiction.datasets import read_loop_file
-from sktiction.datasets._measured import _split
+from sktiction.datasets._columns import _split
 
 
 def _times(start, n, step="10s"):

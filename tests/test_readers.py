@@ -576,7 +576,7 @@ def test_decimal_mark_of_a_file(rows, decimal):
     ],
 )  # fmt: skip
 def test_channel_names_with_a_bare_unit(name, key):
-    from sktiction.datasets._measured import channel_key
+    from sktiction.datasets._columns import channel_key
 
     assert channel_key(name) == key
 

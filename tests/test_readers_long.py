@@ -224,9 +224,9 @@ def test_times_of_day_without_dates_are_refused(tmp_path):
     ],
 )
 def test_long_columns_found_by_name(names, found):
-    from sktiction.datasets import _measured
+    from sktiction.datasets._columns import _is_time
 
-    cols = long_columns(names, _measured._is_time)
+    cols = long_columns(names, _is_time)
     if found is None:
         assert cols is None
     else:
@@ -557,7 +557,7 @@ def test_long_exports_named_in_german_french_spanish_dutch(tmp_path, header):
     ],
 )  # fmt: skip
 def test_long_column_roles_in_other_languages(names, found):
-    from sktiction.datasets._measured import _is_time
+    from sktiction.datasets._columns import _is_time
 
     cols = long_columns(names, _is_time)
     assert {k: cols[k] for k in found} == found

@@ -11,19 +11,14 @@ Three layers:
   a scan of many or long files should call :func:`read_loop_file` per file).
 
 File layouts are in :mod:`sktiction.datasets._readers`, time columns in
-:mod:`sktiction.datasets._timestamps`. Columns are found by name, case-insensitively, also
-after a ``<tag>.``, ``<tag>_``, ``<tag> ``, ``<tag>:``, ``<tag>/`` or ``<tag>|`` prefix (a
-value field ``.CV`` or ``.Value`` after a channel name is dropped); a file with several
-prefixes (``FIC1.PV, FIC1.OP, LIC2.PV, ...``) holds one loop per prefix. A quality
-column beside a channel (``FIC1.PV Quality``, ``PV_Status``) or for the whole row
-(``Quality``) blanks the values it calls not good, as in long exports, with a note.
+:mod:`sktiction.datasets._timestamps`, column names in :mod:`sktiction.datasets._columns`
+and cell text in :mod:`sktiction.datasets._numbers`.
 """
 
 from __future__ import annotations
 
 import os
 import re
-from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -31,17 +26,10 @@ import pandas as pd
 from sklearn.utils import Bunch
 
 from .._validation import CHANNELS, STATUS_OK, check_positive
-from ._long import QUALITY_NAMES, bad_quality, long_columns, paired_table, pivot_long, time_owners
-from ._readers import (
-    BARE_UNIT,
-    SMALL_INT,
-    UNIT_SUFFIX,
-    US_INTEGER,
-    US_SURE,
-    FileError,
-    file_kind,
-    open_tables,
-)
+from ._columns import _ALIASES, _accept, _is_time, _loop_of, _loop_type, _plan, _plans, channel_key
+from ._long import long_columns, paired_table, pivot_long
+from ._numbers import _channel_values, _mode, _numeric, _status_note
+from ._readers import FileError, file_kind, open_tables
 from ._timestamps import TIME_UNITS, TimeError, coarse_stamps, count, parse_times, regularise
 
 __all__ = ["list_loop_files", "read_loop_file", "read_loops"]
@@ -49,44 +37,8 @@ __all__ = ["list_loop_files", "read_loop_file", "read_loops"]
 STATUS_ERROR = "error"
 STATUS_UNSUPPORTED = "unsupported"
 
-# Column-name aliases, compared lower-case. Order within a tuple does not matter.
-_ALIASES = {
-    "pv": ("pv", "y", "cv", "meas", "measurement", "process_variable"),
-    "op": ("op", "mv", "out", "co", "output", "controller_output", "u"),
-    "sp": ("sp", "sv", "spt", "setpoint", "set_point", "r", "ref"),
-    "time": (
-        "time", "t", "t_s", "time_s", "t_ms", "time_ms", "t_min", "time_min", "t_h", "time_h",
-        "timestamp", "datetime", "date_time", "date",
-        # German DCS exports (WinCC, PCS7): Zeitstempel, or Datum and Uhrzeit
-        "zeit", "zeitstempel", "datum", "uhrzeit",
-    ),
-    "mode": ("mode", "aut", "auto"),
-}
-_DATE_NAMES = ("date", "datum")  # of a date column beside a time-of-day column
 _TIME_UNIT = re.compile(r"[\[(_ ](ms|min|h)[\])]?$")
 _TIME_SCALE = {"ms": 1e-3, "min": 60.0, "h": 3600.0}
-# Between a tag and a channel name: FIC1.PV, FIC1_PV, FIC1 PV, FIC1:PV, LIC1/PID1/PV, and
-# a PI AF element and its attribute, \\srv\db\FIC1|PV.
-_TAG_SEPARATORS = (".", "_", " ", ":", "/", "|")
-# A value field after a channel name (DeltaV PV.CV, OUT.CV; PI PV.Value).
-_FIELD = re.compile(r"[.:](cv|value)$", re.IGNORECASE)
-_KEY_OF = {alias: key for key, aliases in _ALIASES.items() for alias in aliases}
-_LOOP_KEYS = ("pv", "op", "sp", "mode")
-_GROUPED = r"\s*[-+]?\d{1,3}(?:\.\d{3})+(?:,\d*)?\s*"  # 1.500,25 or 12.000
-# 1 234,5 (French, also with a no-break space) or 1'234.5 (Swiss): never a decimal mark
-_SPACED = r"\s*[-+]?\d{1,3}(?:['\u00a0\u202f ]\d{3})+(?:[.,]\d*)?\s*"
-_US_GROUPED = r"\s*[-+]?\d{1,3}(?:,\d{3})+(?:\.\d*)?\s*"  # 1,500.25 or 12,000
-# a number written with a decimal comma (50,036 or 1.500,25), left as text in a file read
-# with decimal points
-_COMMA_TEXT = re.compile(r"[-+]?(?:\d{1,3}(?:\.\d{3})+|\d*),\d+")
-# Text in a MODE column: automatic (and cascade) count as closed loop.
-_MODE_TEXT = {"auto": 1.0, "aut": 1.0, "cas": 1.0, "cascade": 1.0, "man": 0.0, "manual": 0.0}
-# Text a historian writes for a missing value; read as NaN without being counted as status.
-_MISSING_TEXT = ("", "nan", "na", "n/a", "null", "none")
-# ISA controller letters inside a tag: first letter = measured variable, then optional
-# D (differential), I/R (indicating/recording), C (controller), not glued to other letters.
-_ISA = re.compile(r"(?<![A-Z])(PD|[FLPT])(IR|I|R)?C(?![A-Z])")
-_LOOP_TYPES = {"F": "flow", "L": "level", "P": "pressure", "PD": "pressure", "T": "temperature"}
 _META_COLUMNS = [
     "file", "path", "format", "tag", "isa", "loop_type", "ts", "n_samples", "n_nan",
     "auto_fraction", "start", "status", "reason",
@@ -95,14 +47,6 @@ _META_COLUMNS = [
 
 class _Unsupported(FileError):
     """The file type is not read at all (as opposed to a readable type holding bad data)."""
-
-
-def _loop_type(tag):
-    """ISA letters found in ``tag`` (e.g. ``'FIC'``) and the loop type they imply."""
-    m = _ISA.search(str(tag).upper())
-    if m is None:
-        return "", "unknown"
-    return m.group(0), _LOOP_TYPES[m.group(1)]
 
 
 # ---- listing -------------------------------------------------------------------------------
@@ -163,302 +107,6 @@ def list_loop_files(paths):
 def _file_row(path):
     kind, reason = file_kind(path)
     return {"path": str(path), "supported": kind is not None, "reason": reason}
-
-
-# ---- columns -------------------------------------------------------------------------------
-
-
-def _split(name):
-    """(prefix, channel key) of a column name, or None: full name first, then suffixes.
-
-    A unit in brackets at the end (``FIC1.PV [m3/h]``, ``OP (%)``) is ignored, and so is
-    a bare unit (``OP %``, ``PV degC``: :data:`BARE_UNIT`) when the name without it is a
-    channel's; ``Set Point`` is ``SETPOINT``.
-    """
-    name = UNIT_SUFFIX.sub("", str(name).strip())
-    hit = _split_name(name)
-    bare = BARE_UNIT.search(name)
-    if hit is None and bare is not None and bare.start() > 0:
-        hit = _split_name(name[: bare.start()].rstrip())
-    return hit
-
-
-def _split_name(name):
-    """:func:`_split` of a name without a unit."""
-    field = _FIELD.search(name)
-    if field is not None:
-        # DeltaV ``LIC101/PID1/OUT.CV``: the value field of the OUT channel, not a PV
-        inner = _split(name[: field.start()])
-        if inner is not None and inner[1] in _LOOP_KEYS:
-            return inner
-    # "Set Point", "FIC1 Set-Point": one word, as the aliases have it (same length)
-    low = re.sub(r"set[ -]point$", "set_point", name.lower())
-    if low in _KEY_OF:
-        return "", _KEY_OF[low]
-    for sep in _TAG_SEPARATORS:
-        if sep in low:
-            head, tail = low.rsplit(sep, 1)
-            if tail.strip() in _KEY_OF:
-                return name[: len(head)].strip(), _KEY_OF[tail.strip()]
-    return None
-
-
-def channel_key(name):
-    """``"pv"``, ``"op"``, ``"sp"``, ``"time"`` or ``"mode"``: what a column named
-    ``name`` holds for the readers, or ``None``."""
-    hit = _split(name)
-    return None if hit is None else hit[1]
-
-
-def _plans(names, channels):
-    """Whether :func:`_plan` finds a loop among ``names``."""
-    try:
-        _plan(names, channels)
-    except FileError:
-        return False
-    return True
-
-
-def _is_time(name):
-    return channel_key(name) == "time"
-
-
-def _loop_of(tag):
-    """The loop a tag belongs to: its prefix (``FIC1`` of ``FIC1.PV``), else the tag."""
-    hit = _split(tag)
-    return hit[0] if hit is not None else str(tag)
-
-
-def _accept(names, channels):
-    """Whether a workbook sheet's columns hold loops: wide, long, or a time column before
-    each tag."""
-    return (_plans(names, channels) or long_columns(names, _is_time, channels) is not None
-            or (not channels and time_owners(names, _is_time) is not None))  # fmt: skip
-
-
-def _plan(names, channels):
-    """Which columns hold time and each loop's channels.
-
-    Returns ``(time, loops, notes)``: ``time`` a list of 0, 1 or 2 (date, time) positions,
-    ``loops`` a list of ``(prefix, {key: position})`` with a PV each, ``notes`` strings.
-    """
-    channels = dict(channels or {})
-    fixed = {}
-    for key, col in channels.items():
-        if col not in names:
-            raise FileError(f"column {col!r} given in channels[{key!r}] is not in {names}")
-        fixed[key] = names.index(col)
-    found = {}  # (prefix, key) -> positions
-    for i, name in enumerate(names):
-        if i in fixed.values():
-            continue
-        hit = _split(name)
-        if hit is not None:
-            found.setdefault(hit, []).append(i)
-    # Time: one column shared by all loops, or a date column and a time-of-day column.
-    if "time" in fixed:
-        time = [fixed.pop("time")]
-    else:
-        cand = [i for (prefix, key), pos in found.items() if key == "time" for i in pos]
-        dates = [i for i in cand if names[i].strip().lower().endswith(_DATE_NAMES)]
-        if len(cand) == 2 and len(dates) == 1:
-            time = [dates[0], next(i for i in cand if i != dates[0])]
-        elif len(cand) > 1:
-            raise FileError(
-                f"several columns could be the time: {[names[i] for i in cand]}; choose one "
-                f"with channels={{'time': ...}}"
-            )
-        else:
-            time = cand
-    if fixed:
-        # Explicit channels make one loop; missing keys fall back to the unprefixed match.
-        loop = dict(fixed)
-        for key in _LOOP_KEYS:
-            pos = found.get(("", key), [])
-            if key not in loop and len(pos) == 1 and pos[0] not in loop.values():
-                loop[key] = pos[0]
-        if "pv" not in loop:
-            raise FileError(f"no PV column: add 'pv' to channels (columns: {names})")
-        prefix = _split(names[loop["pv"]]) or ("", "")
-        loops = [(prefix[0], loop)]
-        _add_quality(names, loops, time)
-        return time, loops, []
-    groups = {}
-    for (prefix, key), pos in found.items():
-        if key == "time":
-            continue
-        if len(pos) > 1:
-            raise FileError(
-                f"several columns could be {key.upper()}: {[names[i] for i in pos]}; "
-                f"choose one with channels={{{key!r}: ...}}"
-            )
-        groups.setdefault(prefix, {})[key] = pos[0]
-    loops = [(prefix, g) for prefix, g in groups.items() if "pv" in g]
-    if len(loops) == 1 and loops[0][0] and "" in groups:
-        # One tagged loop beside untagged columns (FIC1.PV, FIC1.OP, SP): they belong to it.
-        shared = groups.pop("")
-        loops[0][1].update({k: v for k, v in shared.items() if k not in loops[0][1]})
-        groups[""] = {k: v for k, v in shared.items() if v not in loops[0][1].values()}
-    if not loops:
-        raise FileError(
-            f"no PV column (looked for {'/'.join(_ALIASES['pv'])}, also after a "
-            f"'<tag>.' prefix, in {names}); name it with channels={{'pv': ...}}"
-        )
-    notes = [
-        f"columns {[names[i] for i in g.values()]} not used: no PV beside them"
-        for prefix, g in groups.items()
-        if g and "pv" not in g
-    ]
-    loops = sorted(loops, key=lambda item: min(item[1].values()))
-    _add_quality(names, loops, time)
-    return time, loops, notes
-
-
-def _quality_word(name):
-    """``(channel column, quality word)`` of a quality column's name (``("FIC1.PV",
-    "Quality")``, ``("", "Status")`` for a column of the whole row), else ``(name, None)``."""
-    text = UNIT_SUFFIX.sub("", str(name).strip())
-    if text.lower() in QUALITY_NAMES - {"q"}:  # a bare "Q" is as often a flow
-        return "", text
-    for sep in _TAG_SEPARATORS:
-        head, _, tail = text.rpartition(sep)
-        if head.strip() and tail.strip().lower() in QUALITY_NAMES:
-            return head.strip(), tail.strip()
-    return text, None
-
-
-def _add_quality(names, loops, time):
-    """Give each channel of ``loops`` its quality column, as ``"<key>_quality"``.
-
-    A channel's own (its column's name, a separator and a quality word: ``FIC1.PV
-    Quality``, ``PV_Status``, ``OP.Q``), else the file's one column named by a quality word
-    alone (``Quality``: the whole row's). Values whose quality is not good are read as NaN
-    (:func:`bad_quality` says what counts as good), as in long exports.
-    """
-    used = set(time) | {p for _, g in loops for p in g.values()}
-    own, shared = {}, []
-    for i, name in enumerate(names):
-        head, word = _quality_word(name)
-        if i in used or word is None:
-            continue
-        if head:
-            own.setdefault(head.lower(), i)
-        else:
-            shared.append(i)
-    for _, g in loops:
-        for key in ("pv", "op", "sp"):
-            if key not in g:
-                continue
-            q = own.get(UNIT_SUFFIX.sub("", str(names[g[key]]).strip()).lower())
-            if q is None and len(shared) == 1:
-                q = shared[0]
-            if q is not None:
-                g[f"{key}_quality"] = q
-
-
-def _numeric(col, name, decimal, strict, thousands=None):
-    """Column as float; historian status text becomes NaN and is counted.
-
-    ``thousands=","``: the file's other numbers show the comma to group thousands (see
-    :func:`_us_grouping`). Returns ``(values, counts, note)`` with ``counts`` a Counter of
-    the text values replaced and ``note`` saying how thousands separators were read (""
-    if none).
-    """
-    if col.dtype.kind in "fiub":
-        return col.to_numpy(dtype=float, na_value=np.nan), Counter(), ""
-    text = col.astype(object)
-    note = ""
-    if decimal == ".":
-        text, note = _us_grouping(col, name, sure=thousands == ",")
-    if decimal == ",":
-        text = col.astype(str)
-        # with a decimal comma a point groups thousands (1.500,25): only where it does so
-        grouped = text.str.fullmatch(_GROUPED)
-        if grouped.any():
-            text = text.where(~grouped, text.str.replace(".", "", regex=False))
-        text = text.str.replace(",", ".", regex=False).where(col.notna(), None)
-    values = pd.to_numeric(text, errors="coerce").to_numpy(dtype=float)
-    bad = np.isnan(values) & col.notna().to_numpy()
-    if bad.any():
-        values, bad, spaced = _spaced_grouping(col, values, bad, decimal, name)
-        note = "; ".join(filter(None, [note, spaced]))
-    if not bad.any():
-        return values, Counter(), note
-    idx = np.flatnonzero(bad)
-    raw = col.iloc[idx].astype(str).str.strip()
-    missing = raw.str.lower().isin(_MISSING_TEXT).to_numpy()
-    idx, raw = idx[~missing], raw[~missing]
-    if strict and len(idx):
-        raise FileError(
-            f"column {name!r} is not numeric: row {idx[0] + 1} of the data holds "
-            f"{col.iloc[idx[0]]!r} ({len(idx)} such values)"
-        )
-    return values, Counter(raw.tolist()), note
-
-
-def _spaced_grouping(col, values, bad, decimal, name):
-    """``values`` with the cells ``bad`` (not numbers) whose thousands are grouped by a
-    space or an apostrophe (``1 234,5`` in French, ``1'234.5`` in Swiss exports) read,
-    ``bad`` without them, and a note. Neither mark can be a decimal one; before, each
-    such cell was status text. Only the bad cells are looked at (a regex on every cell
-    doubled the time of a file with status text)."""
-    idx = np.flatnonzero(bad)
-    text = col.iloc[idx].astype(str)
-    grouped = text.str.fullmatch(_SPACED).to_numpy(dtype=bool, na_value=False)
-    if not grouped.any():
-        return values, bad, ""
-    plain = text[grouped].str.replace(r"['\u00a0\u202f\s]", "", regex=True)
-    number = pd.to_numeric(plain.str.replace(decimal, ".", regex=False), errors="coerce")
-    read = idx[grouped][number.notna().to_numpy()]
-    values, bad = values.copy(), bad.copy()
-    values[read] = number.dropna().to_numpy(dtype=float)
-    bad[read] = False
-    n = count(int(read.size), "value")
-    return values, bad, f"thousands separators (space or ') in {name!r} removed ({n})" * (
-        read.size > 0
-    )
-
-
-def _us_grouping(col, name, sure=False):
-    """Text column with US thousands separators (``1,003.729``) removed, and a note.
-
-    Only where no cell can be a decimal comma: every cell holding a comma is grouped in
-    threes (``d,ddd[.dd]``), and some cell shows both a comma and a decimal point
-    (``1,003.7``) or several groups (``1,000,000``), in this column or, with ``sure``, in
-    another of the file; or the comma cells are integers (``1,019``) beside integers
-    below 1000 (``987``: 1.019 beside it would be a jump of a thousand times).
-    ``"1,500"`` could be 1.5 written with a decimal comma, so otherwise a column whose
-    only commas are such cells stays as it is (text).
-    """
-    text = col.astype(str)
-    comma = text.str.contains(",", regex=False).to_numpy() & col.notna().to_numpy()
-    if not comma.any():
-        return col.astype(object), ""
-    with_comma = text[comma]
-    if not with_comma.str.fullmatch(_US_GROUPED).all():
-        return col.astype(object), ""
-    small = text[~comma & col.notna().to_numpy()].str.fullmatch(SMALL_INT).any()
-    whole = with_comma.str.fullmatch(US_INTEGER).all()
-    if not (sure or small and whole) and not with_comma.str.fullmatch(US_SURE).any():
-        return col.astype(object), ""
-    text = text.where(~comma, text.str.replace(",", "", regex=False)).where(col.notna(), None)
-    n = count(int(comma.sum()), "value")
-    return text, f"thousands separators ',' in {name!r} removed ({n})"
-
-
-def _mode(col):
-    if col.dtype.kind in "fiub":
-        return col.to_numpy(dtype=float, na_value=np.nan)
-    text = col.astype(str).str.strip().str.lower()
-    mapped = text.map(_MODE_TEXT).astype(float)
-    return mapped.fillna(pd.to_numeric(col, errors="coerce")).to_numpy(dtype=float)
-
-
-def _status_note(counts, label):
-    n = sum(counts.values())
-    top = ", ".join(f"{v!r} x{c}" for v, c in counts.most_common(3))
-    more = ", ..." if len(counts) > 3 else ""
-    return f"{count(n, 'text value')} in {label} read as NaN ({top}{more})"
 
 
 # ---- one file ------------------------------------------------------------------------------
@@ -655,8 +303,8 @@ def _read_table(path, table, channels, ts, strict, time_unit, return_frames):
                 pd.DataFrame({
                     "time": t if time_pos else np.arange(m) * step, "pv": pv, "op": op,
                     "sp": X[j, :, 2], "mode": mode,
-                })  # fmt: skip
-            )
+                })
+            )  # fmt: skip
     return X, rows, frames
 
 
@@ -690,69 +338,6 @@ def manual_gaps(X, rows):
         if m is not None and m.any():
             X[j, m] = np.nan
     return X
-
-
-def _channel_values(frame, loops, names, decimal, strict, thousands=None, kind="csv"):
-    """Every loop's pv, op, sp, mode side by side as floats, and notes per loop.
-
-    ``thousands`` as in :func:`_numeric`; ``kind`` the file's format, for the advice when
-    text values are numbers with a decimal comma (see :func:`_comma_text_note`).
-    """
-    values = np.full((len(frame), 4 * len(loops)), np.nan)
-    loop_notes = [[] for _ in loops]
-    for j, (_, g) in enumerate(loops):
-        texts = Counter()
-        for k, key in enumerate(_LOOP_KEYS):
-            if key not in g:
-                continue
-            col = frame[g[key]]
-            if key == "mode":
-                values[:, 4 * j + k] = _mode(col)
-                continue
-            values[:, 4 * j + k], counts, note = _numeric(
-                col, names[g[key]], decimal, strict, thousands
-            )
-            if note:
-                loop_notes[j].append(note)
-            quality = g.get(f"{key}_quality")
-            if quality is not None:
-                word = _quality_word(names[quality])[1]
-                bad, note = bad_quality(frame[quality], names[quality], word)
-                if bad is not None and bad.all():
-                    # not one good value: rather a column of something else (a mode, an
-                    # alarm state) than a tag bad for the whole export
-                    bad, note = None, (f"column {names[quality]!r} not used as quality: "
-                                       "none of its values reads good")  # fmt: skip
-                if bad is not None:
-                    values[bad, 4 * j + k] = np.nan
-                if note and note not in loop_notes[j]:
-                    loop_notes[j].append(note)
-            if counts:
-                loop_notes[j].append(_status_note(counts, key.upper()))
-                texts += counts
-        hint = _comma_text_note(texts, kind)
-        if hint:
-            loop_notes[j].insert(0, hint)
-    return values, loop_notes
-
-
-def _comma_text_note(counts, kind):
-    """What to do when most text values (a Counter) are numbers written with a decimal
-    comma in a file read with decimal points (quoted cells of a ``,``-separated file,
-    text cells of a workbook): "" otherwise."""
-    n = sum(counts.values())
-    comma = [v for v in counts if _COMMA_TEXT.fullmatch(v)]
-    if n == 0 or sum(counts[v] for v in comma) <= n / 2:
-        return ""
-    fixes = {
-        "xlsx": "make the cells numbers (in Excel: Data > Text to Columns) or save the sheet "
-                "as CSV with ';' between the columns",
-        "csv": "export the file with ';' between the columns (which leaves the comma to the "
-               "decimals) or with decimal points",
-    }  # fmt: skip
-    fix = fixes.get(kind, "write them with decimal points")
-    return (f"text values such as {comma[0]!r} look like numbers with a decimal comma, in a "
-            f"file whose decimal mark is a point: {fix}")  # fmt: skip
 
 
 def _strict_order(t, raw):
