@@ -130,6 +130,20 @@ def test_feature_transformers_are_scale_and_offset_invariant():
     np.testing.assert_allclose(normalise_loops(Z), normalise_loops(X), rtol=1e-6, atol=1e-6)
 
 
+def test_verdicts_do_not_depend_on_the_direction_of_action(small_model):
+    # PV and SP upside down is a direct-acting loop; 100 - OP is a fail-open valve (the
+    # output reversed): the same loop, read the same way, whatever the signs
+    X, _ = make_loops(30, n_samples=1000, random_state=SEED + 9)
+    p = small_model.predict_proba(X)[:, 1]
+    direct = X.copy()
+    direct[:, :, [0, 2]] = -X[:, :, [0, 2]]
+    fail_open = X.copy()
+    fail_open[:, :, 1] = 100.0 - X[:, :, 1]
+    assert np.isfinite(p).sum() >= 20 and np.ptp(p[np.isfinite(p)]) > 0.3
+    for Z in (direct, fail_open, fail_open[:, :, [0, 1, 2]] * [-1, 1, -1]):
+        np.testing.assert_allclose(small_model.predict_proba(Z)[:, 1], p, atol=1e-9)
+
+
 def test_probabilities_are_probabilities_and_predict_follows_them(small_model):
     X, y = make_loops(30, n_samples=1000, random_state=SEED + 3)
     proba = small_model.predict_proba(X)
