@@ -75,7 +75,7 @@ def main():
         with matplotlib.rc_context({"font.size": 8}):
             return [_figure_png(reference_figure(one, c), 72) for one, c in zip(loops, cycles)]
 
-    ref, pngs = cpu(before)
+    ref, _ = cpu(before)
     size = np.mean([len(png) for png, _ in drawn]) / 1e3
     n_cycles = np.array([len(c) for c in cycles])
     print(f"{N_LOOPS} loops of 8,640 samples; analysed cycles per loop: median "

@@ -100,14 +100,6 @@ def _frame(**cols):
     return pd.DataFrame(cols)
 
 
-def _q(values, lo=10, hi=90):
-    values = np.asarray(values, dtype=float)
-    values = values[np.isfinite(values)]
-    if len(values) == 0:
-        return None
-    return tuple(float(v) for v in np.percentile(values, [lo, hi]))
-
-
 def _per_noise(stats, share_of_span):
     """A size given as a share of the PV span, in units of the PV noise sd (NaN without noise)."""
     noise = _col(stats, "pv_noise")
@@ -232,10 +224,6 @@ def _fit_length(stats):
     if short.any():
         out["min_length"] = int(max(20, n[short].min()))
     return out
-
-
-def _fit_slips(stats):
-    return {}
 
 
 _ENTRIES = [
