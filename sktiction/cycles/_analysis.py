@@ -416,7 +416,8 @@ def _analyze_cycles(x, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
     args = (min_cycles, hysteresis, tolerance, min_acf, threshold)
     analysis, shifts = read_without_shifts(
         x,  # the caller's dominant period is that of the record as it is
-        lambda y: _read_cycles(y, *args, dominant if y is x else None),
+        # a second reading is kept only if it oscillates
+        lambda y: _read_cycles(y, *args, dominant if y is x else None, y is not x),
         lambda a: a.oscillating,
     )
     analysis.centred, analysis.smooth = analysis.centred * unit, analysis.smooth * unit
@@ -424,21 +425,29 @@ def _analyze_cycles(x, min_cycles=3, hysteresis=3.0, tolerance=0.5, min_acf=0.0,
     return analysis
 
 
-def _read_cycles(x, min_cycles, hysteresis, tolerance, min_acf, threshold, dominant):
-    """One reading of :func:`_analyze_cycles`: the record as it is given."""
+def _read_cycles(
+    x, min_cycles, hysteresis, tolerance, min_acf, threshold, dominant, needs_oscillation=False
+):
+    """One reading of :func:`_analyze_cycles`: the record as it is given. With
+    ``needs_oscillation``, a reading whose components cannot oscillate even with the
+    time-domain confirmation stops at its spectrum (an empty, non-oscillating reading)."""
     if dominant is None:
         dominant = lambda: dominant_period(x)  # noqa: E731
     components, p0, strength = [], np.nan, 0.0
-    if x.size >= 20 and np.ptp(x) > 0:  # one spectrum for both the ACF and the components
+    spectral = x.size >= 20 and np.ptp(x) > 0  # one spectrum for the ACF and the components
+    if spectral:
         power, m, filled, spacing = _power_spectrum(x)
-        if filled:  # the dominant period is read from the signal as recorded
-            p0, strength = dominant()
-        else:
-            acf = irfft(power, m)[: x.size // 2 + 1]
-            p0, strength = first_lobe(acf / acf[0]) if acf[0] > 0 else (np.nan, 0.0)
         # cycles of at least 5 fresh values: a finer export adds none
         components = _components(power, m, x.size, 3, 5.0 * spacing, 3.5, 0.5, threshold)
-    elif x.size > 2:
+    if needs_oscillation and not any(
+        _with_evidence(c, CYCLE_EVIDENCE).index > threshold for c in components
+    ):
+        empty = np.empty(0, dtype=int)
+        return CycleAnalysis(x, x, np.empty(0), empty, empty)
+    if spectral and not filled:
+        acf = irfft(power, m)[: x.size // 2 + 1]
+        p0, strength = first_lobe(acf / acf[0]) if acf[0] > 0 else (np.nan, 0.0)
+    elif x.size > 2:  # repeats filled in (the ACF of the record as recorded), or no spectrum
         p0, strength = dominant()
     found = [c for c in components if c.index > threshold]
     if found:
