@@ -81,7 +81,7 @@ def _check_not_one_loop_table(X, name):
     columns = getattr(X, "columns", None)
     if columns is None or np.ndim(X) != 2:
         return
-    from .datasets._measured import channel_key  # the readers' names; imported late
+    from .datasets._columns import channel_key  # the readers' names; imported late
 
     keys = {c: channel_key(c) for c in columns}
     if not any(k in ("pv", "op") for k in keys.values()):

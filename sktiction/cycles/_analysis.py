@@ -439,8 +439,9 @@ def _read_cycles(
         power, m, filled, spacing = _power_spectrum(x)
         # cycles of at least 5 fresh values: a finer export adds none
         components = _components(power, m, x.size, 3, 5.0 * spacing, 3.5, 0.5, threshold)
-    if needs_oscillation and not any(
-        _with_evidence(c, CYCLE_EVIDENCE).index > threshold for c in components
+    if needs_oscillation and not any(  # as is, or with the confirmation's evidence
+        c.index > threshold or _with_evidence(c, CYCLE_EVIDENCE).index > threshold
+        for c in components
     ):
         empty = np.empty(0, dtype=int)
         return CycleAnalysis(x, x, np.empty(0), empty, empty)

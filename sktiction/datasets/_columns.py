@@ -215,7 +215,7 @@ def _add_quality(names, loops, time):
     A channel's own (its column's name, a separator and a quality word: ``FIC1.PV
     Quality``, ``PV_Status``, ``OP.Q``), else the file's one column named by a quality word
     alone (``Quality``: the whole row's). Values whose quality is not good are read as NaN
-    (:func:`bad_quality` says what counts as good), as in long exports.
+    (:func:`~sktiction.datasets._long.bad_quality` says what counts as good), as in long exports.
     """
     used = set(time) | {p for _, g in loops for p in g.values()}
     own, shared = {}, []
