@@ -224,6 +224,9 @@ def test_evidence_is_added_on_the_logit_scale():
     )
     boosted = _with_evidence(_component(0.3, 80.0, 0.7), 0.1)
     assert (boosted.period, boosted.share) == (80.0, 0.7)
+    # evidence never lowers an index already within 1e-12 of 1 (the clamp would)
+    for index in (1.0, 1 - 1e-14):
+        assert _with_evidence(_component(index), CYCLE_EVIDENCE).index == index
 
 
 def _boosted(index):

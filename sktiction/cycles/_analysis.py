@@ -317,7 +317,10 @@ def _set_detection(analysis, components, threshold, min_acf):
 
 
 def _with_evidence(component, extra):
-    """``component`` with ``extra`` added to its score (the index's logit scale)."""
+    """``component`` with ``extra`` added to its score (the index's logit scale); an index
+    already within 1e-12 of 1 stays (the logit's clamp would otherwise lower it)."""
+    if component.index >= 1 - 1e-12 and extra >= 0:
+        return component
     i = min(max(component.index, 1e-12), 1 - 1e-12)
     score = np.log(i / (1 - i)) + extra / SCORE_SCALE
     return replace(component, index=float(1 / (1 + np.exp(-score))))
