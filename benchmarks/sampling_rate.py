@@ -25,6 +25,11 @@ value held 3 rows, OP as recorded).
 Printed per judge: balanced accuracy ("no verdict" counts as "no stiction"), the share of
 loops the model judges and the share read coarser.
 
+Then the other way: records kept at every second and third sample (a historian logging 2 or
+3 times slower; nothing to repair), for the second simulator and the measured windows of
+``../shared/data`` (when present): balanced accuracy and the verdicts that change against
+the record as it is.
+
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/sampling_rate.py [n_loops]`` (default 300)
 """
 
@@ -35,6 +40,7 @@ import sys
 import warnings
 
 import numpy as np
+from _measured_common import load_measured
 from independent_world import make_independent_loops
 from sklearn.metrics import balanced_accuracy_score
 
@@ -44,6 +50,7 @@ from sktiction.classifiers import learned
 from sktiction.datasets import make_loops
 
 FINER = (3, 10)
+COARSER = (2, 3)
 
 
 def interpolated(X, k, rng, held=()):
@@ -102,6 +109,17 @@ def judge(model, X, y):
     return ba, d["in_domain"].mean(), (d["rows_per_sample"] > 1).mean()
 
 
+def coarser_records(model, name, X, y):
+    """Balanced accuracy at every ``k``-th sample, and the verdicts that change."""
+    base = model.predict(X)
+    cells = [f"as recorded {balanced_accuracy_score(y, base):.3f}"]
+    for k in COARSER:
+        pred = model.predict(np.ascontiguousarray(X[:, ::k]))
+        cells.append(f"every {k}: {balanced_accuracy_score(y, pred):.3f} "
+                     f"({np.sum(pred != base)} of {len(y)} verdicts change)")  # fmt: skip
+    print(f"{name:34s} " + "; ".join(cells), flush=True)
+
+
 def main(n_loops=300):
     warnings.simplefilter("ignore", UserWarning)
     model = pretrained_classifier()
@@ -128,6 +146,11 @@ def main(n_loops=300):
         on = judge(model, X, y)
         print(f"{name:34s} {off[0]:.3f} ({off[1]:.2f}) -> {on[0]:.3f} ({on[1]:.2f}, {on[2]:.2f})",
               flush=True)  # fmt: skip
+    print("\nrecords logged slower (every k-th sample kept): balanced accuracy")
+    coarser_records(model, "second simulator", Xi, yi)
+    measured = load_measured()
+    if measured is not None:
+        coarser_records(model, "measured windows", measured[0], measured[1])
 
 
 if __name__ == "__main__":
