@@ -29,12 +29,14 @@ Run: python benchmarks/bench_oscillation.py [--n 200] [--measured] [--figures DI
      NUMBA_NUM_THREADS=1 python benchmarks/bench_oscillation.py --speed
      python benchmarks/bench_oscillation.py --gaussianity --n 300  (very irregular vs noise)
      python benchmarks/bench_oscillation.py --level-steps --n 300  (cycles under level shifts)
+     python benchmarks/bench_oscillation.py --artefacts --n 200  (spikes, placeholders)
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -348,7 +350,11 @@ def run_simulated(n_per_class, seed=0):
             info = {}
             x, truth, periods = make_signal(kind, rng, info)
             t0 = time.process_time()  # CPU time: the load of a shared machine does not count
-            a = analyze_cycles(x)
+            with warnings.catch_warnings():
+                # made without artefacts: a repair here is the spike rule taking a fast edge
+                # of 1-3 samples for a glitch, as a scan would (--artefacts measures it)
+                warnings.simplefilter("ignore")
+                a = analyze_cycles(x)
             times.append((time.process_time() - t0) / x.size * 5000)
             hits.append(bool(a.oscillating))
             index.append(a.oscillation_index)
@@ -875,6 +881,57 @@ def run_level_steps(n_per_class, seed=0, per_cell=40):
         print(f"  {name}: " + " / ".join(parts))
 
 
+def _spikes(rng, x, low, high):
+    y = x.copy()
+    k = int(rng.integers(2, 9))
+    y[rng.integers(0, x.size, k)] += rng.choice([-1, 1], k) * rng.uniform(low, high, k) * np.ptp(x)
+    return y
+
+
+def _placeholders(rng, x):
+    y = x + 50 - x.mean()  # an operating point, then an outage written as -9999
+    length = max(1, int(rng.uniform(0.005, 0.05) * x.size))
+    start = int(rng.integers(0, x.size - length))
+    y[start : start + length] = -9999.0
+    return y
+
+
+#: What a historian or a transmitter does to a record, by name.
+ARTEFACTS = {
+    "none": lambda rng, x: x,
+    "spikes": lambda rng, x: _spikes(rng, x, 5, 20),  # 2-8 "Bad" samples, 5-20 ranges off
+    "mild_spikes": lambda rng, x: _spikes(rng, x, 1, 3),
+    "placeholders": _placeholders,  # 0.5-5 % of the record
+}
+
+
+def run_artefacts(n_per_class, seed=0):
+    """Rate of oscillating calls per class with each artefact of :data:`ARTEFACTS`, as
+    ``analyze_cycles`` reads the record (spikes replaced, placeholders read as missing,
+    as a scan reads them) and as read before that repair (the record as it is)."""
+    from sktiction.cycles._analysis import _analyze_cycles
+
+    kinds = ("regular", "irregular", "stick_slip", "unequal_halves",
+             "coloured_noise", "random_walk", "closed_loop")  # fmt: skip
+    print("| class | truth | " + " | ".join(f"{a}: repaired / as is" for a in ARTEFACTS) + " |")
+    print("|---|---|" + "---|" * len(ARTEFACTS))
+    for kind in kinds:
+        cells = []
+        for k, harm in enumerate(ARTEFACTS.values()):
+            rng = np.random.default_rng([seed, STREAM[kind]])
+            spoil = np.random.default_rng([seed, 1000 + k])
+            repaired, as_is = [], []
+            for _ in range(n_per_class):
+                x, truth, _ = make_signal(kind, rng)
+                y = harm(spoil, x)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")  # each repair is said; here it is counted
+                    repaired.append(analyze_cycles(y).oscillating)
+                as_is.append(_analyze_cycles(y).oscillating)
+            cells.append(f"{np.mean(repaired):.2f} / {np.mean(as_is):.2f}")
+        print(f"| {kind} | {'oscillating' if truth else 'quiet'} | " + " | ".join(cells) + " |")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=200, help="signals per class")
@@ -898,7 +955,15 @@ def main():
         help="band-passed kurtosis and regularity per class: very irregular cycles against "
         "resonant noise",
     )
+    parser.add_argument(
+        "--artefacts",
+        action="store_true",
+        help="spikes and placeholders for missing data: found as repaired and as is",
+    )
     args = parser.parse_args()
+    if args.artefacts:
+        run_artefacts(args.n, args.seed)
+        return
     if args.speed:
         run_speed()
         return
