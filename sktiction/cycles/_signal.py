@@ -71,7 +71,7 @@ def _artefacts_out(x):
     finite = np.isfinite(x)
     size = np.abs(x[finite])
     typical = np.partition(size, size.size // 2)[size.size // 2] if size.size else 0.0  # no sum
-    unit = 2.0 ** min(int(np.frexp(typical)[1]), 1023) if typical > 0 else 1.0
+    unit = 2.0 ** min(max(int(np.frexp(typical)[1]), -1021), 1023) if typical > 0 else 1.0
     y, notes = x / unit, []
     spikes = spike_mask(y)
     if spikes.any():
