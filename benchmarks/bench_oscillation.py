@@ -353,7 +353,7 @@ def run_simulated(n_per_class, seed=0):
             with warnings.catch_warnings():
                 # made without artefacts: a repair here is the spike rule taking a fast edge
                 # of 1-3 samples for a glitch, as a scan would (--artefacts measures it)
-                warnings.simplefilter("ignore")
+                warnings.filterwarnings("ignore", message="x: ", category=UserWarning)
                 a = analyze_cycles(x)
             times.append((time.process_time() - t0) / x.size * 5000)
             hits.append(bool(a.oscillating))
@@ -916,7 +916,7 @@ ARTEFACTS = {
 
 
 def _as_before(y):
-    """``analyze_cycles`` as it read ``y`` before the thirty-ninth session: no spike or
+    """``analyze_cycles`` as it read ``y`` at b473a64: no spike or
     placeholder repair, and excursions clipped for a second reading only when more than
     0.5 % of the record lay beyond the far-out fences."""
     from sktiction.cycles import _level_shifts
@@ -950,7 +950,8 @@ def run_artefacts(n_per_class, seed=0):
                 x, truth, _ = make_signal(kind, rng)
                 y = harm(spoil, x)
                 with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")  # each repair is said; here it is counted
+                    # each repair is said in a warning; here it is counted
+                    warnings.filterwarnings("ignore", message="x: ", category=UserWarning)
                     now.append(analyze_cycles(y).oscillating)
                 before.append(_as_before(y).oscillating)
             cells.append(f"{np.mean(now):.2f} / {np.mean(before):.2f}")

@@ -239,8 +239,8 @@ def clipped_excursions(x):
     An excursion that is no level shift hides a cycle as a shift does: an operator's bump
     (two opposite steps closer than the shift windows), a step within the outer 3.75 % of
     the record, where no shift is searched, a trip of a few samples (OP to 0 and back:
-    two of six samples in 3,000 hid a cycle ten times smaller in every one of 20 records
-    while 0.5 % of the record was asked for). A cycle lies within the inner fences (a
+    two trips of six samples each in 3,000 hid a cycle ten times smaller in every one of
+    20 records while 0.5 % of the record was asked for). A cycle lies within the inner fences (a
     sine's are 2.8 amplitudes from its median), and Gaussian noise passes the far-out
     fences on two samples in a million, so only excursions are clipped.
     """

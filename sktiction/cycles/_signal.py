@@ -16,16 +16,17 @@ MAX_BRIDGED_RUN = 0.01
 
 
 def one_signal(x, name="x"):
-    """``x`` as a 1-D float array, without NaN padding at either end, repaired as a scan
-    repairs each channel.
+    """``x`` as a 1-D float array, without NaN padding at either end, with spikes,
+    placeholders and gaps repaired as a scan repairs them.
 
     A loop array pads shorter records with NaN at the end (tslearn's layout), so
     ``X[i, :, 1]`` of such an array is read as the record it holds; padding at the
-    start is dropped too. The rest is repaired as a scan repairs a loop's channels, with
-    a warning that says what was done: spikes (one to three samples far from both
-    neighbours, :func:`~sktiction._cleaning.spike_mask`) are replaced by straight lines,
+    start is dropped too. The rest is repaired with the rules a scan applies to each
+    channel of a loop, and a warning says what was done (sample numbers are the
+    input's): spikes (one to three samples far from both neighbours,
+    :func:`~sktiction._cleaning.spike_mask`) are replaced by straight lines,
     placeholders for missing data written as numbers (-9999 for a stretch,
-    :func:`~sktiction._cleaning.placeholder_mask`) are read as a gap, and a gap (or any
+    :func:`~sktiction._cleaning.placeholder_mask`) are read as missing, and a gap (or any
     value that is not finite) of at most 1 % of the record (at least one sample) is
     bridged by a straight line, while a longer one splits the record and the longest
     stretch is kept. Input that is not one signal or holds no value is an error: a gap
@@ -34,44 +35,55 @@ def one_signal(x, name="x"):
     x = np.asarray(x, dtype=float)
     if x.ndim != 1:
         raise ValueError(f"{name} must be one signal (1-D); got shape {x.shape}.")
+    lost = ~np.isfinite(x)  # as given: placeholders read as missing are not counted here
     x, notes = _artefacts_out(x)
     finite = np.isfinite(x)
     if finite.all() and x.size:
         return _noted(x, name, notes)
     if not finite.any():
         raise ValueError(f"{name} holds no value (length {x.size}, all NaN or infinite).")
-    first, last = int(np.argmax(finite)), x.size - int(np.argmax(finite[::-1]))
-    if np.isnan(x[:first]).all() and np.isnan(x[last:]).all():
-        x, finite = x[first:last], finite[first:last]  # padding at either end
+    size = x.size
+    first, last = int(np.argmax(finite)), size - int(np.argmax(finite[::-1]))
+    if np.isnan(x[:first]).all() and np.isnan(x[last:]).all():  # padding at either end
+        if lost[:first].sum() < first or lost[last:].sum() < size - last:
+            notes.append(f"read from sample {first} to {last} (placeholders at an end)")
+        x, finite, lost = x[first:last], finite[first:last], lost[first:last]
+    else:
+        first = 0
     if finite.all():
         return _noted(x, name, notes)
-    n = x.size
-    limit = max(1, int(MAX_BRIDGED_RUN * n))
+    limit = max(1, int(MAX_BRIDGED_RUN * x.size))
     fixed, info = repair_gaps(np.where(finite, x, np.nan)[None, :, None], max_gap=limit)
     a, b = int(info["kept_start"].iloc[0]), int(info["kept_stop"].iloc[0])
-    note = (f"{int((~finite).sum())} NaN or infinite value(s) inside the record "
-            f"(first at sample {int(np.argmin(finite))} of {n})")
+    done = []
     if info["n_gaps_split"].iloc[0]:
-        note += f": the longest stretch between gaps of more than 1 % of it kept, rows {a}-{b}"
+        done.append("the longest stretch between gaps of more than 1 % of it kept, rows "
+                    f"{first + a}-{first + b}")
     if info["n_bridged"].iloc[0]:
-        note += ("; " if info["n_gaps_split"].iloc[0] else ": ") + "short gaps bridged by " \
-            "straight lines"
-    return _noted(np.ascontiguousarray(fixed[0, : b - a, 0]), name, notes + [note])
+        done.append("short gaps bridged by straight lines")
+    if lost.any():
+        notes.append(f"{int(lost.sum())} NaN or infinite value(s) inside the record (first at "
+                     f"sample {first + int(np.argmax(lost))} of {size}): " + "; ".join(done))
+    else:
+        notes.extend(done)
+    return _noted(np.ascontiguousarray(fixed[0, : b - a, 0]), name, notes)
 
 
 def _artefacts_out(x):
     """``x`` with its spikes replaced by straight lines and its placeholders set to NaN,
     as a scan reads each channel (spikes first: a lone -9999 is a spike, not a gap), and
-    what was done; ``x`` itself when it holds neither (most records). Read in units of
-    its median magnitude (a power of two: exact), so that a record near 1e300 does not
-    overflow and a record near 1e20 is not read as codes (a scan's loops are in process
-    units; a signal here may be in any)."""
+    what was done; ``x`` itself when it holds neither (most records). A record whose
+    median magnitude exceeds 1 is read divided by a power of two near it (exact), so that
+    a record near 1e300 does not overflow and a record near 1e20 is not read as codes (a
+    scan's loops are in process units; a signal here may be in any)."""
     from .._cleaning import placeholder_mask, spike_mask  # loop-level code builds on this
 
     finite = np.isfinite(x)
     size = np.abs(x[finite])
-    typical = np.partition(size, size.size // 2)[size.size // 2] if size.size else 0.0  # no sum
-    unit = 2.0 ** min(max(int(np.frexp(typical)[1]), -1021), 1023) if typical > 0 else 1.0
+    # the median by partition (the mean of two middles could overflow near 1e308); never
+    # below 1: a record of tiny values is read in its own units, as a scan reads it
+    typical = np.partition(size, size.size // 2)[size.size // 2] if size.size else 0.0
+    unit = 2.0 ** min(int(np.frexp(typical)[1]), 1023) if typical > 1 else 1.0
     y, notes = x / unit, []
     spikes = spike_mask(y)
     if spikes.any():
