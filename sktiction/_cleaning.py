@@ -199,19 +199,21 @@ def spike_mask(x):
     return mask
 
 
+def replace_spikes(x):
+    """Replace the spikes of ``x`` (1-D, in place) by a straight line between their
+    neighbours; returns their mask (:func:`spike_mask`)."""
+    mask = spike_mask(x)
+    if mask.any():
+        t = np.arange(x.size)
+        keep = ~mask & np.isfinite(x)
+        x[mask] = np.interp(t[mask], t[keep], x[keep])
+    return mask
+
+
 def remove_spikes(loop, n):
     """Replace the spikes of each channel of one loop (first ``n`` samples) by a straight
     line between their neighbours, in place; returns how many samples were replaced."""
-    count = 0
-    t = np.arange(n)
-    for c in range(loop.shape[1]):
-        x = loop[:n, c]
-        mask = spike_mask(x)
-        if mask.any():
-            keep = ~mask & np.isfinite(x)
-            x[mask] = np.interp(t[mask], t[keep], x[keep])
-            count += int(mask.sum())
-    return count
+    return sum(int(replace_spikes(loop[:n, c]).sum()) for c in range(loop.shape[1]))
 
 
 def placeholder_mask(x):

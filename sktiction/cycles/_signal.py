@@ -36,7 +36,7 @@ def one_signal(x, name="x"):
     if x.ndim != 1:
         raise ValueError(f"{name} must be one signal (1-D); got shape {x.shape}.")
     lost = ~np.isfinite(x)  # as given: placeholders read as missing are not counted here
-    x, notes = _artefacts_out(x)
+    x, notes = _artefacts_out(x, ~lost)
     finite = np.isfinite(x)
     if finite.all() and x.size:
         return _noted(x, name, notes)
@@ -69,27 +69,24 @@ def one_signal(x, name="x"):
     return _noted(np.ascontiguousarray(fixed[0, : b - a, 0]), name, notes)
 
 
-def _artefacts_out(x):
-    """``x`` with its spikes replaced by straight lines and its placeholders set to NaN,
+def _artefacts_out(x, finite):
+    """``x`` (``finite`` where it is) with its spikes replaced by straight lines and its
+    placeholders set to NaN,
     as a scan reads each channel (spikes first: a lone -9999 is a spike, not a gap), and
     what was done; ``x`` itself when it holds neither (most records). A record whose
     median magnitude exceeds 1 is read divided by a power of two near it (exact), so that
     a record near 1e300 does not overflow and a record near 1e20 is not read as codes (a
     scan's loops are in process units; a signal here may be in any)."""
-    from .._cleaning import placeholder_mask, spike_mask  # loop-level code builds on this
+    from .._cleaning import placeholder_mask, replace_spikes  # loop-level code builds on this
 
-    finite = np.isfinite(x)
     size = np.abs(x[finite])
     # the median by partition (the mean of two middles could overflow near 1e308); never
     # below 1: a record of tiny values is read in its own units, as a scan reads it
     typical = np.partition(size, size.size // 2)[size.size // 2] if size.size else 0.0
     unit = 2.0 ** min(int(np.frexp(typical)[1]), 1023) if typical > 1 else 1.0
     y, notes = x / unit, []
-    spikes = spike_mask(y)
+    spikes = replace_spikes(y)
     if spikes.any():
-        t = np.arange(y.size)
-        keep = ~spikes & finite
-        y[spikes] = np.interp(t[spikes], t[keep], y[keep])
         notes.append(f"{int(spikes.sum())} spike sample(s) replaced by straight lines "
                      f"(first at sample {int(np.argmax(spikes))})")
     held = placeholder_mask(y) & finite  # inf is not a code: it is read as lost
