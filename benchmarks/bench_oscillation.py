@@ -30,6 +30,7 @@ Run: python benchmarks/bench_oscillation.py [--n 200] [--measured] [--figures DI
      python benchmarks/bench_oscillation.py --gaussianity --n 300  (very irregular vs noise)
      python benchmarks/bench_oscillation.py --level-steps --n 300  (cycles under level shifts)
      python benchmarks/bench_oscillation.py --artefacts --n 200  (spikes, placeholders, trips)
+     python benchmarks/bench_oscillation.py --drifting-period  (period changing in the record)
 """
 
 from __future__ import annotations
@@ -838,6 +839,50 @@ def run_gaussianity(n_per_class, seed=0):
                 print(f"  {kind} ({v.size}): {q}")
 
 
+def chirped(shape, n, first, last, duty=0.1):
+    """A cycle whose period changes linearly from ``first`` to ``last`` samples over
+    ``n`` samples (a limit cycle whose load or operating point moves during the record);
+    a "pulse" is high (1) for ``duty`` of each cycle and 0 otherwise."""
+    phase = np.cumsum(1.0 / np.linspace(first, last, n)) % 1.0  # share of the cycle done
+    if shape == "sine":
+        return np.sin(2 * np.pi * phase)
+    if shape == "saw":
+        return 2 * phase - 1
+    if shape == "square":
+        return np.where(phase < 0.5, 1.0, -1.0)
+    if shape == "triangle":
+        return 1 - 4 * np.abs(phase - 0.5)
+    return (phase < duty).astype(float)
+
+
+def run_drifting_period(seed=0, per_cell=30):
+    """Cycles whose period changes by a factor across the record (either way), 8-15
+    cycles in 1,500-5,000 samples, white noise: share found, per shape, factor and noise
+    (in units of the cycle's amplitude: half its peak-to-peak; a pulse train's height 1)."""
+    rng = np.random.default_rng([seed, 3000])
+    ratios = (1.0, 1.3, 1.6, 2.0, 3.0)
+    print(f"{per_cell} signals per cell; period changing by a factor of " +
+          ", ".join(f"{r:g}" for r in ratios))  # fmt: skip
+    shapes = [("sine", 0.5), ("triangle", 0.5), ("square", 0.5), ("saw", 0.5),
+              ("pulse", 0.05), ("pulse", 0.1), ("pulse", 0.2)]  # fmt: skip
+    for noise in (0.1, 0.3):
+        for shape, duty in shapes:
+            cells = []
+            for ratio in ratios:
+                got = []
+                for _ in range(per_cell):
+                    n = int(rng.uniform(1500, 5000))
+                    first = 2 * n / rng.uniform(8, 15) / (1 + ratio)  # mean period n / cycles
+                    a, b = (first, ratio * first) if rng.random() < 0.5 else (ratio * first, first)
+                    x = chirped(shape, n, a, b, duty) + rng.normal(0, noise, n)
+                    with warnings.catch_warnings():  # short pulses read as spikes: a scan would
+                        warnings.filterwarnings("ignore", message="x: ", category=UserWarning)
+                        got.append(analyze_cycles(x).oscillating)
+                cells.append(f"{np.mean(got):.2f}")
+            name = shape if shape != "pulse" else f"pulse, high {duty:.0%} of each cycle"
+            print(f"| {name} | {noise:g} | " + " | ".join(cells) + " |")
+
+
 def run_level_steps(n_per_class, seed=0, per_cell=40):
     """Cycles under level shifts, read as they are and with the second reading: a grid
     of one step (size in cycle amplitudes x period), then the *level_steps* class by
@@ -986,7 +1031,15 @@ def main():
         action="store_true",
         help="spikes, placeholders for missing data, trips: found now and as before",
     )
+    parser.add_argument(
+        "--drifting-period",
+        action="store_true",
+        help="cycles whose period changes by a factor across the record",
+    )
     args = parser.parse_args()
+    if args.drifting_period:
+        run_drifting_period(args.seed)
+        return
     if args.artefacts:
         run_artefacts(args.n, args.seed)
         return

@@ -42,6 +42,12 @@ CONFIRM_ACF = 0.2
 LOPSIDED_LEVEL = 0.05
 #: ... with the median share more than this far from one half.
 LOPSIDED_MARGIN = 0.1
+#: Cycles are read about the middle of their swing (halfway between these percentiles
+#: of the signal less its moving mean) instead of their mean ...
+SWING_PERCENTILE = 5.0
+#: ... when the two lie more than this share of the swing apart: a cycle lopsided in
+#: level, not a symmetric one whose middle differs from its mean by noise alone.
+MIDDLE_SHIFT = 0.03
 
 
 @dataclass
@@ -51,7 +57,8 @@ class CycleAnalysis:
     Attributes
     ----------
     centred : ndarray
-        The signal with its moving mean removed.
+        The signal with its moving mean removed (and the middle of its swing, for
+        cycles lopsided in level: see :func:`analyze_cycles`).
     smooth : ndarray
         ``centred`` lightly smoothed (used for crossings and peaks).
     crossings : ndarray of float
@@ -93,7 +100,7 @@ class CycleAnalysis:
         cycle (a sine, a triangle, a square wave), near 0 or 1 for a saw-tooth,
         whose slip is fast; NaN when no cycle is followed by an extreme in the record.
     above_share : float
-        How long the cycles stay above their moving mean: for each full cycle in
+        How long the cycles stay above zero in ``centred``: for each full cycle in
         segments, its positive half's duration as a share of the cycle's; the median
         over the cycles. About 0.5 for a cycle as long above its mean as below (a sine,
         a triangle, a saw-tooth, a square wave), further from it for a pulse train or a
@@ -275,8 +282,8 @@ def _fall_shares(peaks, signs, kept):
 
 
 def _above_shares(crossings, signs, kept):
-    """Share of each kept full cycle (crossings k, k+1, k+2) spent above the moving
-    mean: its positive half's duration over the cycle's."""
+    """Share of each kept full cycle (crossings k, k+1, k+2) spent above the level its
+    crossings were read at: its positive half's duration over the cycle's."""
     kept = np.asarray(kept, dtype=np.intp)
     first = crossings[kept + 1] - crossings[kept]
     total = crossings[kept + 2] - crossings[kept]
@@ -342,10 +349,14 @@ def analyze_cycles(
     signal, or the period of the strongest detected component when it disagrees
     with all of them (drift or a second oscillation hides the first ACF lobe);
     (2) mean removal by a moving average over that period (robust to drift and
-    setpoint moves, see :func:`~sktiction.cycles.remove_mean`); (3) zero crossings
-    by a Schmitt trigger at ``hysteresis`` times the noise standard deviation on a
-    lightly smoothed copy, so noise cannot multiply them; (4) half-cycles between
-    crossings, their peaks, and full cycles (three consecutive crossings);
+    setpoint moves, see :func:`~sktiction.cycles.remove_mean`), and, when the middle
+    of the swing (halfway between its 5th and 95th percentiles) lies more than
+    :data:`MIDDLE_SHIFT` of the swing from that mean, as it does for a pulse train,
+    removal of that middle too, so that the noise of the long low stretches does not
+    cross; (3) zero crossings by a Schmitt trigger at ``hysteresis`` times the noise
+    standard deviation on a lightly smoothed copy, so noise cannot multiply them;
+    (4) half-cycles between crossings, their peaks, and full cycles (three
+    consecutive crossings);
     (5) stretches of at least ``min_cycles`` consecutive full cycles whose periods
     lie within ``tolerance`` of their local median (the cycle and two neighbours
     either side) are the oscillating segments. ``period`` and ``regularity`` (Thornhill's
@@ -462,7 +473,16 @@ def _read_cycles(
     # smoothing for crossings and peaks, as wide as the noise needs and at most a
     # tenth of a period (which keeps shapes); none on clean signals, so peaks stay put
     sigma = noise_std(centred)
-    amp = 0.5 * np.subtract(*fast_percentile(centred, [99, 1]))
+    top, bottom, high, low = fast_percentile(centred, [99, 1, 100 - SWING_PERCENTILE,
+                                                       SWING_PERCENTILE])  # fmt: skip
+    amp = 0.5 * (top - bottom)
+    middle = 0.5 * (high + low)
+    shifted = abs(middle) > MIDDLE_SHIFT * (high - low)
+    if shifted:
+        # about the middle of the swing, as a comparator reads it: a cycle lopsided in
+        # level (a pulse train) crosses its mean near its low side, where the noise of
+        # the long low stretches makes crossings of its own
+        centred = centred - middle
     rel = min(0.1, 2 * sigma / amp) if amp > 0 else 0.0
     width = max(1, int(round(rel * p0))) if np.isfinite(p0) else 1
     smooth = moving_average(centred, width) if sigma > 0 else centred
@@ -471,7 +491,15 @@ def _read_cycles(
     # whose sign changes, not the signal, would place its crossing: read it as zero
     eps = 1e-10 * np.ptp(smooth) if smooth.size else 0.0
     crossings, signs = schmitt_crossings(np.where(np.abs(smooth) <= eps, 0.0, smooth), h)
-    peaks = _peaks(centred, smooth, crossings, signs, width)
+    if shifted:
+        # a stretch that sat on the moving mean (a hold drawn as a line: rounding noise
+        # about it) now lies off the crossing level, a half-cycle of its own whose extreme
+        # rounding would pick: look for extremes on a grid of 1e-9 of the range, so the
+        # first of equal values is taken at any scale
+        grid = 1e-9 * max(np.ptp(smooth), 1e-300)
+        peaks = _peaks(np.round(centred / grid), np.round(smooth / grid), crossings, signs, width)
+    else:
+        peaks = _peaks(centred, smooth, crossings, signs, width)
     analysis = CycleAnalysis(centred, smooth, crossings, signs, peaks, acf_strength=strength)
     _set_detection(analysis, components, threshold, min_acf)
     if crossings.size < 3:
