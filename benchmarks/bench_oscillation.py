@@ -329,6 +329,15 @@ STREAM = {kind: i for i, kind in enumerate(OSCILLATING[:-4] + QUIET[:-1] + OSCIL
                                            + QUIET[-1:] + OSCILLATING[-3:])}  # fmt: skip
 
 
+def read_quietly(x):
+    """``analyze_cycles(x)`` without the warnings that say what it repaired: on records
+    made without artefacts a repair is the spike rule taking a fast edge of 1-3 samples
+    for a glitch, as a scan would (``--artefacts`` counts repairs instead)."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="x: ", category=UserWarning)
+        return analyze_cycles(x)
+
+
 def period_found(analysis, periods, tol=0.2):
     """Whether every true period is among the detected components' periods."""
     found = np.asarray(analysis.periods, dtype=float)
@@ -351,11 +360,7 @@ def run_simulated(n_per_class, seed=0):
             info = {}
             x, truth, periods = make_signal(kind, rng, info)
             t0 = time.process_time()  # CPU time: the load of a shared machine does not count
-            with warnings.catch_warnings():
-                # made without artefacts: a repair here is the spike rule taking a fast edge
-                # of 1-3 samples for a glitch, as a scan would (--artefacts measures it)
-                warnings.filterwarnings("ignore", message="x: ", category=UserWarning)
-                a = analyze_cycles(x)
+            a = read_quietly(x)
             times.append((time.process_time() - t0) / x.size * 5000)
             hits.append(bool(a.oscillating))
             index.append(a.oscillation_index)
@@ -875,9 +880,7 @@ def run_drifting_period(seed=0, per_cell=30):
                     first = 2 * n / rng.uniform(8, 15) / (1 + ratio)  # mean period n / cycles
                     a, b = (first, ratio * first) if rng.random() < 0.5 else (ratio * first, first)
                     x = chirped(shape, n, a, b, duty) + rng.normal(0, noise, n)
-                    with warnings.catch_warnings():  # short pulses read as spikes: a scan would
-                        warnings.filterwarnings("ignore", message="x: ", category=UserWarning)
-                        got.append(analyze_cycles(x).oscillating)
+                    got.append(read_quietly(x).oscillating)  # short pulses read as spikes
                 cells.append(f"{np.mean(got):.2f}")
             name = shape if shape != "pulse" else f"pulse, high {duty:.0%} of each cycle"
             print(f"| {name} | {noise:g} | " + " | ".join(cells) + " |")
@@ -994,10 +997,7 @@ def run_artefacts(n_per_class, seed=0):
             for _ in range(n_per_class):
                 x, truth, _ = make_signal(kind, rng)
                 y = harm(spoil, x)
-                with warnings.catch_warnings():
-                    # each repair is said in a warning; here it is counted
-                    warnings.filterwarnings("ignore", message="x: ", category=UserWarning)
-                    now.append(analyze_cycles(y).oscillating)
+                now.append(read_quietly(y).oscillating)  # each repair counted, not said
                 before.append(_as_before(y).oscillating)
             cells.append(f"{np.mean(now):.2f} / {np.mean(before):.2f}")
         print(f"| {kind} | {'oscillating' if truth else 'quiet'} | " + " | ".join(cells) + " |")

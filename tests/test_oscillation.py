@@ -348,19 +348,17 @@ def test_cycle_shares_of_known_shapes(share, shape, low, high):
 def test_a_pulse_train_is_read_about_the_middle_of_its_swing():
     # high for 15 % of each cycle of 50-70 samples, white noise of a quarter of its
     # height: about its moving mean, which lies near its low side, the noise of the long
-    # low stretches crossed too, and the 20 records read 5-21 of their about 33 cycles
-    # (median 17) and a third of each cycle high (0.33); about the middle of the swing,
-    # 31-34 and 0.18
+    # low stretches crossed too, and the 20 records read 3-20 of their about 33 cycles
+    # (median 12.5) and a third of each cycle high (0.32); about the middle of the swing,
+    # 30-34 and 0.18
+    def pulse(period, amp):
+        high = int(round(0.15 * period))
+        return np.r_[np.full(high, amp), np.zeros(period - high)]
+
     rng = np.random.default_rng(3)
     shares = []
     for _ in range(20):
-        cycles, size = [], 0
-        while size < 2000:
-            period = int(rng.uniform(50, 70))
-            high = int(round(0.15 * period))
-            cycles.append(np.r_[np.ones(high), np.zeros(period - high)])
-            size += period
-        a = analyze_cycles(np.concatenate(cycles)[:2000] + 0.25 * rng.normal(size=2000))
+        a = analyze_cycles(_drawn_cycles(rng, 50, 70, pulse, 2000) + 0.25 * rng.normal(size=2000))
         assert a.oscillating and len(a.cycles) >= 28
         shares.append(a.above_share)
     assert 0.12 <= np.median(shares) <= 0.22
