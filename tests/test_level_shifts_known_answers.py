@@ -12,7 +12,7 @@ from sktiction.cycles import analyze_cycles
 from sktiction.cycles._level_shifts import (
     _best_shift,
     _drift,
-    _iqr,
+    _sorted_iqr,
     _windows,
     clipped_excursions,
     level_shifts,
@@ -36,8 +36,8 @@ def test_windows_are_a_twentieth_of_the_record_at_least_ten_and_the_gap_half_tha
 
 
 def test_iqr_and_drift_of_known_samples():
-    assert _iqr(np.arange(101.0)) == 50.0  # 75 - 25
-    assert _iqr(np.array([0.0, 0, 1, 2, 2])) == 2.0
+    assert _sorted_iqr(np.arange(101.0)) == 50.0  # 75 - 25
+    assert _sorted_iqr(np.array([0.0, 0, 1, 2, 2])) == 2.0
     # halves of 5 samples: the first 2 (median 0) and the last 3 (median 2)
     assert _drift(np.array([0.0, 0, 0, 2, 2])) == 2.0
     assert _drift(np.arange(10.0)) == 5.0  # medians 7 and 2

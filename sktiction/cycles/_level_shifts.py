@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._signal import fast_median, fast_percentile, unit_scaled
+from ._signal import fast_median, fast_percentile, sorted_median, sorted_percentile, unit_scaled
 
 #: A shift must exceed this many interquartile ranges of the windows either side of it.
 SHIFT_RATIO = 3.0
@@ -39,36 +39,47 @@ def _windows(n):
     return w, max(w // 2, 1)
 
 
-def _iqr(y):
-    q1, q3 = fast_percentile(y, [25, 75])
+def _sorted_iqr(y):
+    q1, q3 = sorted_percentile(y, [25, 75])
     return q3 - q1
 
 
-def _best_shift(s, w, g, ratio):
+def _best_shift(s, w, g, ratio, cusum=None):
     """Where a level shift in ``s`` most likely is (the CUSUM's extreme) and how many
     window spreads it measures, by the tests of :func:`level_shifts` with windows of
-    ``w`` samples ``g`` samples off the point; ``None`` when it is not a shift."""
+    ``w`` samples ``g`` samples off the point; ``None`` when it is not a shift.
+    ``cusum``: :func:`_cusum` of ``s``, if already computed."""
     short = max(w // 4, 5)  # a window cut short by the stretch's end
     if s.size < 2 * (short + g):
         return None
-    k = _best_split(s, short + g)  # left: s[:k]
+    k = _best_split(s, short + g, cusum)  # left: s[:k]
+    # each window sorted once for its median and quartiles; the rest only if it passes
     before, after = s[max(0, k - g - w) : k - g], s[k + g : k + g + w]
-    change = fast_median(after) - fast_median(before)
-    spread = max(_iqr(before), _iqr(after))
+    sorted_before, sorted_after = np.sort(before), np.sort(after)
+    change = sorted_median(sorted_after) - sorted_median(sorted_before)
+    spread = max(_sorted_iqr(sorted_before), _sorted_iqr(sorted_after))
+    if not abs(change) > ratio * spread:
+        return None
     near = fast_median(s[k : k + g]) - fast_median(s[k - g : k])
     same_way = (near > 0) == (change > 0)  # signs, not a product: no underflow at 1e-200
-    if not (abs(change) > ratio * spread and same_way and abs(near) >= 0.5 * abs(change)):
+    if not (same_way and abs(near) >= 0.5 * abs(change)):
         return None
     if max(_drift(before), _drift(after)) > 0.25 * abs(change):
         return None
     return k, abs(change) / max(spread, 1e-12 * abs(change))  # a flat step: 1e12, not inf
 
 
-def _best_split(s, margin):
+def _best_split(s, margin, cusum=None):
     """The extreme of the cumulative sum of ``s`` about its mean, at least ``margin``
     samples from either end: the best single split of ``s`` into two levels."""
-    c = np.cumsum(s - s.mean())
-    return int(np.argmax(np.abs(c[margin - 1 : s.size - margin]))) + margin
+    c = _cusum(s) if cusum is None else cusum
+    return int(np.argmax(c[margin - 1 : s.size - margin])) + margin
+
+
+def _cusum(s):
+    """Size of the cumulative sum of ``s`` about its mean (one per stretch: each window
+    scale and the stairs split read it)."""
+    return np.abs(np.cumsum(s - s.mean()))
 
 
 def _drift(y):
@@ -147,8 +158,9 @@ def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS, stairs=True):
             if (a, b) in done:
                 continue
             need = ratio * (HALF_RATIO if (a, b) in halves else 1.0)
+            cusum = _cusum(x[a:b])
             for scale in SCALES:  # wider windows and gaps pass lagged transitions
-                shift = _best_shift(x[a:b], scale * w, scale * g, need)
+                shift = _best_shift(x[a:b], scale * w, scale * g, need, cusum)
                 if shift is not None:
                     break
             if shift is not None:
@@ -157,7 +169,7 @@ def level_shifts(x, *, ratio=SHIFT_RATIO, max_shifts=MAX_SHIFTS, stairs=True):
                 continue
             done.add((a, b))
             if stairs and (a, b) not in halves and b - a >= 4 * margin:
-                k = a + _best_split(x[a:b], margin)  # searched either side, not a shift
+                k = a + _best_split(x[a:b], margin, cusum)  # searched either side, not a shift
                 stretches.remove((a, b))
                 stretches += [(a, k), (k, b)]
                 halves.update(stretches[-2:])

@@ -71,11 +71,14 @@ def _fresh_spacing(y):
     levels (on/off), and one whose stored values themselves cycle (a triangle or a
     square wave drawn between its corners, a staircase), whose pieces are its cycle's."""
     d2 = np.abs(np.diff(y, 2))
-    levels = np.unique(y)
+    gaps = np.diff(np.sort(y))
+    gaps = gaps[gaps > 0]  # between the distinct values, in order
     # values written with few decimals: rounding bends an interpolated line by <= 2 steps
-    step = np.diff(levels).min() if levels.size > 1 else 0.0
+    step = gaps.min() if gaps.size else 0.0
     knots = np.flatnonzero(d2 > max(1e-9 * max(np.ptp(y), 1e-300), 2.5 * step))
-    if knots.size < 8:
+    # pieces of 2 or more at the median would span 1.5 samples per piece at least: a
+    # noisy record, bent almost everywhere, is read as it is without the median
+    if knots.size < 8 or 2 * (knots[-1] - knots[0]) < 3 * (knots.size - 1):
         return 1
     pieces = np.diff(knots)
     k = int(np.median(pieces))

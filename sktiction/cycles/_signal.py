@@ -133,10 +133,13 @@ def fast_median(x):
     sign: which of -0.0 and 0.0, equal to any comparison, lands in the middle depends
     on the order the selection leaves them in, in numpy too).
     """
-    x = np.asarray(x)
-    s = np.sort(x)
+    return sorted_median(np.sort(np.asarray(x)))
+
+
+def sorted_median(s):
+    """:func:`fast_median` of an array already sorted (one sort serves several statistics)."""
     if s.size == 0 or s.dtype != np.float64 or np.isnan(s[-1]):
-        return np.median(x)  # NaN sorts last: numpy's answer (and warnings) for these
+        return np.median(s)  # NaN sorts last: numpy's answer (and warnings) for these
     h = s.size // 2  # numpy's mean of the middle one or two: a sum from 0.0, then divided
     return 0.0 + s[h] if s.size % 2 else (0.0 + s[h - 1] + s[h]) / 2
 
@@ -148,11 +151,14 @@ def fast_percentile(x, q):
     its neighbours and numpy's two-sided linear interpolation are formed as numpy
     forms them (see :func:`fast_median` for why sorting).
     """
-    x = np.asarray(x)
-    s = np.sort(x)
+    return sorted_percentile(np.sort(np.asarray(x)), q)
+
+
+def sorted_percentile(s, q):
+    """:func:`fast_percentile` of an array already sorted."""
     n = s.size
     if n < 2 or s.dtype != np.float64 or np.isnan(s[-1]):
-        return np.percentile(x, q)
+        return np.percentile(s, q)
     v = (n - 1) * np.true_divide(q, 100)
     i = np.floor(v)
     t = v - i
