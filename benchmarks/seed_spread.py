@@ -17,7 +17,7 @@ computed once and every model reads them (``_diagnose_features``, the method beh
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws] [first_draw]
 [--compare] [--control] [--second-simulator] [--third-simulator] [--loops=N]
-[--without=PREFIX]`` (default 10
+[--without=PREFIX] [--monotone=PREFIX]`` (default 10
 draws from 0; 10-30 s per draw on 2 idle cores).
 ``--compare`` also trains each draw on every loop, the sticky loops whose slips stay
 inside the noise included (the recipe before they were left out), and prints the paired
@@ -34,7 +34,10 @@ instead of 1,500 and prints the paired change: does more of the simulator carry 
 ``--without=PREFIX`` also trains each draw's recipe without the model columns whose names
 start with ``PREFIX`` (e.g. ``valve_model__multiscale``; several prefixes separated by
 commas, a name ending in ``$`` matched exactly) and prints the change from leaving them
-out: what a group of features brings, draw by draw.
+out: what a group of features brings, draw by draw. ``--monotone=PREFIX`` (the same naming) also
+trains each draw's recipe with its booster constrained to a probability of stiction that never
+falls as those columns rise (``monotonic_cst``): domain knowledge of a feature's direction in
+place of what the simulator teaches.
 """
 
 import sys
@@ -179,9 +182,24 @@ def _without(prefix, seed):
     return Without(**recipe.get_params())
 
 
+def _monotone(spec, seed):
+    """The recipe's classifier, untrained, whose booster may only raise the probability of
+    stiction as a column named by ``spec`` (see :func:`_named`) rises."""
+    recipe = make_learned_classifier(random_state=seed, n_jobs=2)
+
+    class Monotone(type(recipe)):
+        def _make_model(self):  # fit sets feature_names_ just before it asks for the model
+            rising = _named(list(self.feature_names_), spec)
+            cst = [int(c in rising) for c in self.feature_names_]
+            return super()._make_model().set_params(boosting__estimator__monotonic_cst=cst)
+
+    return Monotone(**recipe.get_params())
+
+
 def main(n_draws=10, first=0, compare=False, control=False, others=(), loops=None,
-         without=None):
+         without=None, monotone=None):
     rows, paired, mixed, bigger, ablated, sets = [], [], [], [], [], None
+    constrained = []
     for seed in range(first, first + n_draws):
         t0 = time.perf_counter()
         X, y = _training_set(seed, 1500, 2000, "default")
@@ -219,6 +237,12 @@ def main(n_draws=10, first=0, compare=False, control=False, others=(), loops=Non
             ablated.append({**rows[-1], "training": "recipe"})
             ablated.append({"draw": seed, "training": f"recipe without {without}*",
                             **_scores(less, sets)})  # fmt: skip
+        if monotone:
+            mono = _monotone(monotone, seed).fit(X, y)
+            assert _named(list(mono.feature_names_), monotone), monotone
+            constrained.append({**rows[-1], "training": "recipe"})
+            constrained.append({"draw": seed, "training": "recipe, monotone",
+                                **_scores(mono, sets)})  # fmt: skip
         print(f"draw {seed}: trained and judged in {time.perf_counter() - t0:.0f} s", flush=True)
     table = pd.DataFrame(rows).set_index("draw")
     print(table.round(3).to_string())
@@ -234,6 +258,8 @@ def main(n_draws=10, first=0, compare=False, control=False, others=(), loops=Non
         _paired(bigger, base="recipe")
     if ablated:
         _paired(ablated, base=f"recipe without {without}*")
+    if constrained:
+        _paired(constrained, base="recipe")
 
 
 if __name__ == "__main__":
@@ -246,4 +272,5 @@ if __name__ == "__main__":
         others=[o for o in OTHER_SIMULATORS if f"--{o}-simulator" in sys.argv],
         loops=next((int(a.split("=")[1]) for a in sys.argv if a.startswith("--loops=")), None),
         without=next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--without=")), None),
+        monotone=next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--monotone=")), None),
     )

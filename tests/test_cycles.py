@@ -21,6 +21,7 @@ from sktiction.cycles import (
 from sktiction.cycles._analysis import (
     CONFIRM_ACF,
     CYCLE_EVIDENCE,
+    LOPSIDED_EVIDENCE,
     _above_shares,
     _fall_shares,
     _lopsided,
@@ -230,8 +231,8 @@ def test_evidence_is_added_on_the_logit_scale():
         assert _with_evidence(_component(index), CYCLE_EVIDENCE).index == index
 
 
-def _boosted(index):
-    score = np.log(index / (1 - index)) + CYCLE_EVIDENCE / SCORE_SCALE
+def _boosted(index, evidence=CYCLE_EVIDENCE):
+    score = np.log(index / (1 - index)) + evidence / SCORE_SCALE
     return 1 / (1 + np.exp(-score))
 
 
@@ -246,6 +247,8 @@ def _ar_noise(seed):
         ("square wave", square([25] + [50] * 20 + [25])),
         ("AR(1) noise", _ar_noise(2)),  # cycles regular enough, but a weak ACF peak
         ("AR(1) noise 13", _ar_noise(13)),
+        # rises over the whole cycle and drops at once: lopsided, so the larger evidence
+        ("saw-tooth", np.arange(600) % 50 / 50 + np.random.default_rng(0).normal(0, 0.2, 600)),
     ],
 )
 def test_components_are_the_detectors_with_the_cycles_evidence(name, x):
@@ -257,13 +260,15 @@ def test_components_are_the_detectors_with_the_cycles_evidence(name, x):
         _above_shares(a.crossings, a.signs, kept)
     )
     confirm = a.regularity > 1 and (a.acf_strength > CONFIRM_ACF or lopsided)
-    assert confirm == (name in ("four slow cycles", "square wave"))
+    assert confirm == (name in ("four slow cycles", "square wave", "saw-tooth"))
+    assert lopsided == (name == "saw-tooth")
+    evidence = LOPSIDED_EVIDENCE if lopsided else CYCLE_EVIDENCE
     n_boosted = 0
     by_period = sorted(a.components, key=lambda c: c.period)  # whatever their order
     for got, c in zip(by_period, sorted(detected, key=lambda c: c.period)):
         assert got.period == c.period
         if confirm and abs(np.log(c.period / a.period)) < 0.25:
-            assert got.index == pytest.approx(_boosted(c.index), rel=1e-12)
+            assert got.index == pytest.approx(_boosted(c.index, evidence), rel=1e-12)
             n_boosted += 1
         else:
             assert got.index == c.index

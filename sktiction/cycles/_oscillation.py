@@ -127,8 +127,9 @@ COHERENCE_WEIGHT = 0.67
 CYCLE_ACF_WEIGHT = 0.67
 #: Highest harmonic kept in the one-period ACF.
 CYCLE_HARMONICS = 5.0
-#: Most score that :func:`~sktiction.cycles.analyze_cycles` adds from time-domain cycles.
-MAX_CONFIRMATION = 0.5
+#: Most score that :func:`~sktiction.cycles.analyze_cycles` adds from time-domain cycles
+#: (lopsided ones; regular cycles under a clear ACF peak add 0.5).
+MAX_CONFIRMATION = 0.7
 #: Score change that moves the index from 0.5 to about 0.73.
 SCORE_SCALE = 0.2
 #: Evidence asked of a component per 1 / sqrt(cycles in the record).
