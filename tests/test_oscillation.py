@@ -35,6 +35,24 @@ def test_pure_sinusoid_has_index_one_and_its_period():
         assert a.regularities[0] > 1  # Thornhill: regular
 
 
+def test_an_export_finer_than_stored_reads_its_spacing():
+    from sktiction.cycles._oscillation import _fresh_spacing
+
+    rng = np.random.default_rng(3)
+
+    def drawn(pieces):  # lines between stored values of white noise, ``pieces`` apart
+        knots = np.concatenate([[0], np.cumsum(pieces)])
+        return np.interp(np.arange(knots[-1] + 1), knots, rng.normal(size=knots.size))
+
+    assert _fresh_spacing(drawn(np.full(300, 3))) == 3
+    # one piece in twenty of one sample: 1.95 samples per piece, median 2 (a bound that
+    # skipped the median below 2 samples per piece would read 1)
+    twos = np.full(400, 2)
+    twos[::20] = 1
+    assert _fresh_spacing(drawn(twos)) == 2
+    assert _fresh_spacing(rng.normal(size=800)) == 1  # bent everywhere: as recorded
+
+
 def test_white_noise_has_no_oscillation():
     hits = [analyze_cycles(np.random.default_rng(s).normal(size=2000)) for s in range(100)]
     assert sum(a.oscillating for a in hits) <= 2

@@ -36,10 +36,10 @@ CYCLE_EVIDENCE = 0.5
 #: in noise than the ACF gate. On the oscillation benchmark's records with regular cycles
 #: (seeds 3 and 4, 300 per class, a one-off count) the gate passed 4.8-5.6 % of the quiet
 #: classes' readings and 76-79 % of the saw-teeth's and pulse trains', the lopsided test
-#: 1.7-2.0 % and 87-88 %: a likelihood ratio 2.7-3.8 times the gate's, ln of it times
-#: SCORE_SCALE 0.20-0.26 more score. The most it may add is
-#: :data:`~sktiction.cycles._oscillation.MAX_CONFIRMATION`: the detector prunes peaks
-#: that could not reach the threshold even with it.
+#: 1.7-2.0 % and 87-88 %: a likelihood ratio 2.7-3.8 times the gate's, 0.20-0.26 more
+#: score (SCORE_SCALE times its log); hence 0.5 + 0.2. It is the most the confirmation
+#: adds (:data:`~sktiction.cycles._oscillation.MAX_CONFIRMATION`): the detector prunes
+#: peaks that could not reach the threshold even with it.
 LOPSIDED_EVIDENCE = MAX_CONFIRMATION
 CONFIRM_ACF = 0.2
 #: Lopsided cycles confirm instead of the ACF (see :func:`_lopsided`): a sign test of

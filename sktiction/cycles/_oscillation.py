@@ -76,8 +76,8 @@ def _fresh_spacing(y):
     # values written with few decimals: rounding bends an interpolated line by <= 2 steps
     step = gaps.min() if gaps.size else 0.0
     knots = np.flatnonzero(d2 > max(1e-9 * max(np.ptp(y), 1e-300), 2.5 * step))
-    # pieces of 2 or more at the median would span 1.5 samples per piece at least: a
-    # noisy record, bent almost everywhere, is read as it is without the median
+    # a median piece of 2 samples or more needs 1.5 samples per piece on average: a
+    # record bent more often (noise bends it almost everywhere) reads 1 without it
     if knots.size < 8 or 2 * (knots[-1] - knots[0]) < 3 * (knots.size - 1):
         return 1
     pieces = np.diff(knots)
