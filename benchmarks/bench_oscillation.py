@@ -10,8 +10,9 @@ holds; the unequal_halves class: cycles that spend 15-35 % of each period on one
 of their mean). Each class below
 makes signals of that kind (truth: oscillating); each non-oscillating class is a matching
 counterpart (coloured noise, random walk, steps, noise with repeated samples, drift alone,
-and the PV or OP of an ordinarily tuned PI loop holding its setpoint against a random-walk
-load and measurement noise) on which every detection is a false alarm. The generator is
+the PV or OP of an ordinarily tuned PI loop holding its setpoint against a random-walk
+load and measurement noise, and coloured noise under a few setpoint or load steps) on which
+every detection is a false alarm. The generator is
 this file's own, seeded.
 
 Goal: recall >= 0.95 in every oscillating class, false alarms <= 5 % in every other class.
@@ -240,6 +241,17 @@ def make_signal(kind, rng, info=None):
         if info is not None:
             info["zeta"] = zeta
         return x / x.std() + _noise(rng, n, rng.uniform(0.0, 0.5)), 0, []
+    if kind == "stepped_noise":  # the coloured noise above under 1-3 setpoint or load steps
+        x = _ar1(rng, n, rng.uniform(0.0, 0.98)) if rng.random() < 0.5 else _ar2(
+            rng, n, rng.uniform(10, 150), rng.uniform(0.35, 0.7)
+        )
+        x = x / x.std() + _noise(rng, n, rng.uniform(0.0, 0.5))
+        level = np.zeros(n)
+        for t in rng.integers(int(0.05 * n), int(0.95 * n), int(rng.integers(1, 4))):
+            level[t:] += rng.uniform(5, 30) * rng.choice([-1, 1])
+        if rng.random() < 0.5:  # as a first-order response would record them
+            level = np.asarray(_lag(level, rng.uniform(2, 30)))
+        return x + level, 0, []
     if kind == "random_walk":
         m = int(np.exp(rng.uniform(np.log(600), np.log(5000))))
         walk = np.cumsum(rng.normal(size=m))
@@ -322,11 +334,13 @@ OSCILLATING = (
     "stick_slip",
     "unequal_halves",
 )
-QUIET = ("coloured_noise", "random_walk", "steps", "repeated_noise", "drift", "closed_loop")
+QUIET = ("coloured_noise", "random_walk", "steps", "repeated_noise", "drift", "closed_loop",
+         "stepped_noise")
 #: Random stream of each class (a class added later gets a new one, so that the others
 #: keep their signals).
-STREAM = {kind: i for i, kind in enumerate(OSCILLATING[:-4] + QUIET[:-1] + OSCILLATING[-4:-3]
-                                           + QUIET[-1:] + OSCILLATING[-3:])}  # fmt: skip
+STREAM = {kind: i for i, kind in enumerate(
+    OSCILLATING[:-4] + QUIET[:5] + OSCILLATING[-4:-3] + QUIET[5:6] + OSCILLATING[-3:] + QUIET[6:]
+)}
 
 
 def read_quietly(x):

@@ -193,10 +193,13 @@ def test_failure_classes_are_found(kind):
 
 
 @pytest.mark.parametrize(
-    "kind", ["coloured_noise", "random_walk", "steps", "repeated_noise", "drift", "closed_loop"]
+    "kind",
+    ["coloured_noise", "random_walk", "steps", "repeated_noise", "drift", "closed_loop",
+     "stepped_noise"],  # fmt: skip
 )
 def test_quiet_counterparts_rarely_raise_alarms(kind):
-    # closed_loop: PV or OP of an ordinarily tuned PI loop (gain margin 2-4), its own noise
+    # closed_loop: PV or OP of an ordinarily tuned PI loop (gain margin 2-4), its own noise;
+    # stepped_noise: coloured noise under 1-3 setpoint or load steps
     bench = _bench()
     rng = np.random.default_rng([99, 100 + bench.QUIET.index(kind)])
     hits = sum(analyze_cycles(bench.make_signal(kind, rng)[0]).oscillating for _ in range(40))
