@@ -322,6 +322,24 @@ def test_a_cycle_whose_period_doubles_across_the_record_is_found(shape, found):
     assert hits >= found
 
 
+def test_a_pulse_train_whose_period_doubles_is_found_by_its_lopsided_cycles():
+    # pulses high for a tenth of each cycle, whose period doubles (or halves) across the
+    # record, under white noise of a tenth of their height: their harmonics smear into a
+    # flat spectrum, and the regular cycles' time above their middle is what finds them.
+    # 18 of 20 found at their period; 8 when lopsided cycles add no more evidence than
+    # the ACF gate (LOPSIDED_EVIDENCE 0.5)
+    chirped = _bench().chirped
+    rng = np.random.default_rng(5)
+    hits = 0
+    for _ in range(20):
+        n = int(rng.integers(1500, 5000))
+        first = 2 * n / rng.uniform(8, 15) / 3
+        a, b = (first, 2 * first) if rng.random() < 0.5 else (2 * first, first)
+        res = analyze_cycles(chirped("pulse", n, a, b, duty=0.1) + rng.normal(0, 0.1, n))
+        hits += res.oscillating and 0.8 * min(a, b) <= res.periods[0] <= 1.2 * max(a, b)
+    assert hits >= 15
+
+
 def _pulse_train(rng, shortest, longest, size=751):
     """Cycles high (about 1) for 20-30 % of each and low (a third of that, negative) for
     the rest."""
