@@ -132,6 +132,31 @@ def band_snr(cycle, rest, period, width=0.2):
     return powers[0] / max(powers[1], 1e-300)
 
 
+def _coloured_noise(rng, n):
+    """AR(1) noise or an AR(2) resonance of damping ratio 0.35-0.7 (half each), scaled to
+    unit deviation, plus white noise of up to half that: (x, damping ratio or NaN)."""
+    if rng.random() < 0.5:
+        x, zeta = _ar1(rng, n, rng.uniform(0.0, 0.98)), np.nan
+    else:
+        period, zeta = rng.uniform(10, 150), rng.uniform(0.35, 0.7)
+        x = _ar2(rng, n, period, zeta)
+    return x / x.std() + _noise(rng, n, rng.uniform(0.0, 0.5)), zeta
+
+
+def _level_moves(rng, n, first, last, smallest):
+    """1-3 operator or load moves between ``first`` and ``last`` of the record, each of
+    ``smallest``-30 (either sign), half through a first-order lag of 2-30 samples, as
+    such a response would record them: (level, where, lag or 0)."""
+    level = np.zeros(n)
+    where = rng.integers(int(first * n), int(last * n), int(rng.integers(1, 4)))
+    for t in where:
+        level[t:] += rng.uniform(smallest, 30) * rng.choice([-1, 1])
+    lag = rng.uniform(2, 30) if rng.random() < 0.5 else 0.0
+    if lag:
+        level = np.asarray(_lag(level, lag))
+    return level, where, lag
+
+
 def make_signal(kind, rng, info=None):
     """One signal of class ``kind``: (x, truth, periods); truth 1 = oscillating.
 
@@ -220,38 +245,19 @@ def make_signal(kind, rng, info=None):
     if kind == "level_steps":  # operator or load moves, 3-30 times the cycle's amplitude
         p = rng.uniform(15, top)
         x = _wandering(rng, n, p, 0.08, 0.15, shape) + _noise(rng, n, rng.uniform(0.05, 0.4))
-        level = np.zeros(n)
-        where = rng.integers(int(0.03 * n), int(0.97 * n), int(rng.integers(1, 4)))
-        for t in where:
-            level[t:] += rng.uniform(3, 30) * rng.choice([-1, 1])
-        lag = rng.uniform(2, 30) if rng.random() < 0.5 else 0.0
-        if lag:  # as a first-order response would record them
-            level = np.asarray(_lag(level, lag))
+        level, where, lag = _level_moves(rng, n, 0.03, 0.97, 3)
         if info is not None:
             info.update(steps=where.size, lag=lag / n, edge=min(where.min(), n - where.max()) / n)
         return x + level, 1, [p]
     # ---- non-oscillating counterparts
     if kind == "coloured_noise":
-        if rng.random() < 0.5:
-            x = _ar1(rng, n, rng.uniform(0.0, 0.98))
-            zeta = np.nan
-        else:
-            period, zeta = rng.uniform(10, 150), rng.uniform(0.35, 0.7)
-            x = _ar2(rng, n, period, zeta)
+        x, zeta = _coloured_noise(rng, n)
         if info is not None:
             info["zeta"] = zeta
-        return x / x.std() + _noise(rng, n, rng.uniform(0.0, 0.5)), 0, []
+        return x, 0, []
     if kind == "stepped_noise":  # the coloured noise above under 1-3 setpoint or load steps
-        x = _ar1(rng, n, rng.uniform(0.0, 0.98)) if rng.random() < 0.5 else _ar2(
-            rng, n, rng.uniform(10, 150), rng.uniform(0.35, 0.7)
-        )
-        x = x / x.std() + _noise(rng, n, rng.uniform(0.0, 0.5))
-        level = np.zeros(n)
-        for t in rng.integers(int(0.05 * n), int(0.95 * n), int(rng.integers(1, 4))):
-            level[t:] += rng.uniform(5, 30) * rng.choice([-1, 1])
-        if rng.random() < 0.5:  # as a first-order response would record them
-            level = np.asarray(_lag(level, rng.uniform(2, 30)))
-        return x + level, 0, []
+        x = _coloured_noise(rng, n)[0]
+        return x + _level_moves(rng, n, 0.05, 0.95, 5)[0], 0, []
     if kind == "random_walk":
         m = int(np.exp(rng.uniform(np.log(600), np.log(5000))))
         walk = np.cumsum(rng.normal(size=m))
