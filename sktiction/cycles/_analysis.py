@@ -534,11 +534,13 @@ def _read_cycles(
     falls, aboves = _fall_shares(peaks, signs, kept), _above_shares(crossings, signs, kept)
     analysis.fall_share = float(np.median(falls)) if falls.size else np.nan
     analysis.above_share = float(np.median(aboves))
-    if _lopsided(falls) or _lopsided(aboves):
-        evidence = LOPSIDED_EVIDENCE
-    else:
-        evidence = CYCLE_EVIDENCE if strength > CONFIRM_ACF else 0.0
-    if regularity > REGULARITY_THRESHOLD and evidence > 0:
+    evidence = 0.0  # only regular cycles confirm: the tests are not run for the others
+    if regularity > REGULARITY_THRESHOLD:
+        if _lopsided(falls) or _lopsided(aboves):
+            evidence = LOPSIDED_EVIDENCE
+        elif strength > CONFIRM_ACF:
+            evidence = CYCLE_EVIDENCE
+    if evidence > 0:
         # regular cycles in the time domain confirm the component of their period
         boosted = [
             _with_evidence(c, evidence)
