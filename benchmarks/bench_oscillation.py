@@ -117,6 +117,14 @@ def _noise(rng, n, sd):
     return _ar1(rng, n, rng.uniform(0.0, 0.5), 1.0) * sd / np.sqrt(1.0) * 0.9
 
 
+def _noisy(cycle, noise, info):
+    """``cycle + noise``; ``info``, when given, gets ``cycle_to_noise``, the deviation of
+    the cycle over that of the noise (below one, noise hides the cycle from the eye)."""
+    if info is not None:
+        info["cycle_to_noise"] = np.std(cycle) / np.std(noise)
+    return cycle + noise
+
+
 def band_snr(cycle, rest, period, width=0.2):
     """Power of ``cycle`` over that of ``rest`` (both detrended) within +-``width`` of
     the cycle's frequency: what no detector can separate, as the drift's own wiggles
@@ -161,9 +169,11 @@ def make_signal(kind, rng, info=None):
     """One signal of class ``kind``: (x, truth, periods); truth 1 = oscillating.
 
     ``info`` (a dict), when given, gets ``band_snr`` for *drifting* signals (the
-    cycle's power over the drift's near the cycle's frequency, :func:`band_snr`) and
-    ``zeta`` for *coloured_noise* (the damping ratio of its resonance; NaN for AR(1)
-    noise). Filling it draws no random numbers."""
+    cycle's power over the drift's near the cycle's frequency, :func:`band_snr`),
+    ``cycle_to_noise`` for *very_irregular*, *stick_slip* and *unequal_halves* (the
+    cycle's deviation over the noise's, :func:`_noisy`) and ``zeta`` for
+    *coloured_noise* (the damping ratio of its resonance; NaN for AR(1) noise). Filling
+    it draws no random numbers."""
     # records from a plant window (~750 samples) to a long export; at least 6 cycles
     n = int(np.exp(rng.uniform(np.log(600), np.log(3000))))
     top = min(150.0, n / 6)
@@ -179,7 +189,7 @@ def make_signal(kind, rng, info=None):
     if kind == "very_irregular":  # Thornhill's r 0.65-1.1 on the clean cycle, as in plants
         p = rng.uniform(15, top)
         x = _wandering(rng, n, p, rng.uniform(0.35, 0.5), rng.uniform(0.3, 0.5), shape)
-        return x + _noise(rng, n, rng.uniform(0.1, 0.6)), 1, [p]
+        return _noisy(x, _noise(rng, n, rng.uniform(0.1, 0.6)), info), 1, [p]
     if kind == "noise_driven":
         p = rng.uniform(15, top)
         x = _ar2(rng, n, p, rng.uniform(0.02, 0.08))
@@ -228,7 +238,8 @@ def make_signal(kind, rng, info=None):
     if kind == "stick_slip":  # a sticky valve's controller output: slow ramps, fast slips
         p = rng.uniform(20, top)
         x = _wandering(rng, n, p, rng.uniform(0.12, 0.25), rng.uniform(0.1, 0.25), "saw")
-        x = rng.choice([-1, 1]) * x + _noise(rng, n, rng.uniform(0.1, 0.7))
+        x = rng.choice([-1, 1]) * x
+        x = _noisy(x, _noise(rng, n, rng.uniform(0.1, 0.7)), info)
         if rng.random() < 0.5:
             x = _hold(rng, x, rng.uniform(0.15, 0.4))
         return x, 1, [p]
@@ -238,7 +249,8 @@ def make_signal(kind, rng, info=None):
                        rng.uniform(0.15, 0.35))  # fmt: skip
         if rng.random() < 0.5:  # through a first-order lag, as a process would pass it
             x = np.asarray(_lag(x, rng.uniform(0.05, 0.2) * p))
-        x = rng.choice([-1, 1]) * x + _noise(rng, n, rng.uniform(0.1, 0.7))
+        x = rng.choice([-1, 1]) * x
+        x = _noisy(x, _noise(rng, n, rng.uniform(0.1, 0.7)), info)
         if rng.random() < 0.5:
             x = _hold(rng, x, rng.uniform(0.15, 0.4))
         return x, 1, [p]
@@ -370,9 +382,11 @@ def run_simulated(n_per_class, seed=0):
     """Per class: rate of oscillating calls, over all records and over records shorter
     than 1,000 samples (a plant window), the share with every true period found, and
     Thornhill's r of the cycles :func:`analyze_cycles` finds (the issue's r); also the
-    drifting records' cycle-to-drift power (:func:`band_snr`), the coloured-noise
-    records' damping ratio, every record's index, and the CPU time per 5,000 samples."""
-    rows, times, extra = [], [], {"band_snr": [], "zeta": [], "index": {}}
+    drifting records' cycle-to-drift power (:func:`band_snr`), the cycle-to-noise
+    deviation of the classes that record it, the coloured-noise records' damping ratio,
+    every record's index, and the CPU time per 5,000 samples."""
+    rows, times = [], []
+    extra = {"band_snr": [], "zeta": [], "index": {}, "cycle_to_noise": {}}
     for kind in OSCILLATING + QUIET:
         rng = np.random.default_rng([seed, STREAM[kind]])
         hits, short, periods_ok, regularity, index = [], [], 0, [], []
@@ -392,6 +406,10 @@ def run_simulated(n_per_class, seed=0):
             for key in ("band_snr", "zeta"):
                 if key in info:
                     extra[key].append((info[key], bool(a.oscillating)))
+            if "cycle_to_noise" in info:
+                extra["cycle_to_noise"].setdefault(kind, []).append(
+                    (info["cycle_to_noise"], bool(a.oscillating))
+                )
         extra["index"][kind] = np.array(index)
         rows.append(
             (
@@ -426,6 +444,24 @@ def print_snr(snr, edges=(0, 2, 4, 10, np.inf)):
         f"drifting, cycle at least 4 times the drift's power near its frequency: recall "
         f"{snr[seen, 1].mean():.2f} ({seen.sum()} of {len(snr)})"
     )
+
+
+def print_visibility(cycle_to_noise, edges=(0, 1, 1.5, 2, 3, np.inf)):
+    """Recall by the cycle's deviation over the noise's, per class that records it: where
+    the misses of a class lie (below 1 the noise hides the cycle from the eye)."""
+    for kind, pairs in cycle_to_noise.items():
+        pairs = np.array(pairs)
+        cells = []
+        for lo, hi in zip(edges[:-1], edges[1:]):
+            sel = (pairs[:, 0] >= lo) & (pairs[:, 0] < hi)
+            if sel.any():
+                cells.append(f"{lo:g}-{hi:g}: {pairs[sel, 1].mean():.2f} ({sel.sum()})")
+        seen = pairs[:, 0] >= 1
+        print(
+            f"{kind}, recall by the cycle's deviation over the noise's: "
+            + "; ".join(cells)
+            + f"; at least 1: {pairs[seen, 1].mean():.2f} ({seen.sum()} of {len(pairs)})"
+        )
 
 
 def print_zeta(zeta):
@@ -1079,6 +1115,7 @@ def main():
     print_table(rows, args.n)
     print()
     print_snr(extra["band_snr"])
+    print_visibility(extra["cycle_to_noise"])
     print_zeta(extra["zeta"])
     print_tradeoff(extra["index"])
     worst_recall = min(r[2] for r in rows if r[1])
