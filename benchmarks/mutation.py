@@ -86,6 +86,51 @@ GROUPS = {
 }
 
 _CHECKS = "tests/test_estimator_checks.py"
+# test_cleaning.py without the four tests that scan with the pretrained model or write
+# and scan files (15-55 s each), and the known answers: the tests of the loop repairs
+# (_cleaning.py) and of the signal repairs they build on (cycles/_repairs.py)
+_CLEANING_TESTS = [
+    *(f"tests/test_cleaning.py::{test}" for test in (
+        "test_a_spike_of_one_to_three_samples_is_found_and_nothing_else",
+        "test_a_bad_value_in_the_first_or_last_rows_is_a_spike_too",
+        "test_an_end_run_beside_another_jump_is_not_a_spike",
+        "test_steps_cycles_noise_and_wide_excursions_are_not_spikes",
+        "test_fast_flat_topped_cycles_pulses_and_grid_flicker_are_not_spikes",
+        "test_bad_values_beside_a_hole_or_each_other_are_found",
+        "test_remove_spikes_draws_a_line_and_counts_what_it_replaced",
+        "test_a_regular_hold_is_found_with_its_phase_and_irregular_repeats_are_not",
+        "test_hidden_spike_and_hold_leave_the_scan_where_the_clean_loop_is",
+        "test_a_stretch_of_placeholders_is_found_at_either_end_and_nothing_else",
+        "test_codes_at_both_ends_are_judged_without_each_other",
+        "test_an_outage_of_up_to_nearly_half_the_record_is_read_as_placeholders",
+        "test_moves_saturation_setpoints_and_quantised_records_are_not_placeholders",
+        "test_a_setpoint_with_a_hole_is_a_gap_not_a_missing_setpoint",
+        "test_op_out_of_step_with_pv_is_moved_back_in_line",
+        "test_op_in_step_unrelated_or_short_is_left_as_recorded",
+        "test_a_controller_slower_than_the_record_is_read_at_its_own_rate",
+        "test_a_pv_logged_slower_than_op_is_read_at_its_own_rate",
+        "test_clean_loops_undoes_every_artefact_hidden_at_once_and_a_second_pass_finds_none",
+        "test_clean_loops_refuses_what_is_not_loops_and_leaves_its_input_alone",
+        "test_a_swap_is_read_from_the_controller_not_from_values_that_happen_to_agree",
+        "test_a_start_up_transient_hidden_in_loops_is_found_and_dropped_and_nothing_else",
+        "test_start_up_rows_at_the_edges",
+        "test_the_spike_limit_is_at_least_six_tenths_of_the_five_to_95_percent_spread",
+        "test_a_spike_just_before_the_last_sample_is_found",
+        "test_a_slip_with_a_one_sample_overshoot_is_not_a_spike",
+        "test_at_most_three_spike_samples_on_a_record_shorter_than_300",
+        "test_single_codes_codes_near_zero_and_the_implausible_bound",
+        "test_few_changes_are_no_grid_and_the_kept_stretch_is_in_the_input_rows",
+        "test_controller_fit_is_nan_on_too_few_rows_or_an_op_that_never_moves",
+        "test_a_start_up_excursion_must_reach_more_than_a_whole_range_beyond",
+        "test_the_start_up_range_is_the_rest_s_half_to_99_5_percent",
+        "test_the_report_holds_whole_counts_and_nan_where_nothing_was_looked_at",
+        "test_one_channel_on_a_grid_needs_at_least_eight_values",
+        "test_repaired_fills_absent_channels_with_nan",
+        "test_as_judged_reads_loops_as_clean_loops_and_training_repairs_gaps_only",
+    )),
+    "tests/test_cleaning_known_answers.py",
+]
+
 #: Per file, the tests that exercise it and run in seconds (measured in docs/mutation.md);
 #: ``--module <file>`` without ``--tests`` uses them.
 TARGETED = {
@@ -246,49 +291,8 @@ TARGETED = {
         "tests/test_simulation.py", "tests/test_controllers.py", "tests/test_valves.py",
         "tests/test_plants_known_answers.py",
     ],
-    # test_cleaning.py without the four tests that scan with the pretrained model or
-    # write and scan files (15-55 s each), and the known answers
-    "sktiction/_cleaning.py": [
-        *(f"tests/test_cleaning.py::{test}" for test in (
-            "test_a_spike_of_one_to_three_samples_is_found_and_nothing_else",
-            "test_a_bad_value_in_the_first_or_last_rows_is_a_spike_too",
-            "test_an_end_run_beside_another_jump_is_not_a_spike",
-            "test_steps_cycles_noise_and_wide_excursions_are_not_spikes",
-            "test_fast_flat_topped_cycles_pulses_and_grid_flicker_are_not_spikes",
-            "test_bad_values_beside_a_hole_or_each_other_are_found",
-            "test_remove_spikes_draws_a_line_and_counts_what_it_replaced",
-            "test_a_regular_hold_is_found_with_its_phase_and_irregular_repeats_are_not",
-            "test_hidden_spike_and_hold_leave_the_scan_where_the_clean_loop_is",
-            "test_a_stretch_of_placeholders_is_found_at_either_end_and_nothing_else",
-            "test_codes_at_both_ends_are_judged_without_each_other",
-            "test_an_outage_of_up_to_nearly_half_the_record_is_read_as_placeholders",
-            "test_moves_saturation_setpoints_and_quantised_records_are_not_placeholders",
-            "test_a_setpoint_with_a_hole_is_a_gap_not_a_missing_setpoint",
-            "test_op_out_of_step_with_pv_is_moved_back_in_line",
-            "test_op_in_step_unrelated_or_short_is_left_as_recorded",
-            "test_a_controller_slower_than_the_record_is_read_at_its_own_rate",
-            "test_a_pv_logged_slower_than_op_is_read_at_its_own_rate",
-            "test_clean_loops_undoes_every_artefact_hidden_at_once_and_a_second_pass_finds_none",
-            "test_clean_loops_refuses_what_is_not_loops_and_leaves_its_input_alone",
-            "test_a_swap_is_read_from_the_controller_not_from_values_that_happen_to_agree",
-            "test_a_start_up_transient_hidden_in_loops_is_found_and_dropped_and_nothing_else",
-            "test_start_up_rows_at_the_edges",
-            "test_the_spike_limit_is_at_least_six_tenths_of_the_five_to_95_percent_spread",
-            "test_a_spike_just_before_the_last_sample_is_found",
-            "test_a_slip_with_a_one_sample_overshoot_is_not_a_spike",
-            "test_at_most_three_spike_samples_on_a_record_shorter_than_300",
-            "test_single_codes_codes_near_zero_and_the_implausible_bound",
-            "test_few_changes_are_no_grid_and_the_kept_stretch_is_in_the_input_rows",
-            "test_controller_fit_is_nan_on_too_few_rows_or_an_op_that_never_moves",
-            "test_a_start_up_excursion_must_reach_more_than_a_whole_range_beyond",
-            "test_the_start_up_range_is_the_rest_s_half_to_99_5_percent",
-            "test_the_report_holds_whole_counts_and_nan_where_nothing_was_looked_at",
-            "test_one_channel_on_a_grid_needs_at_least_eight_values",
-            "test_repaired_fills_absent_channels_with_nan",
-            "test_as_judged_reads_loops_as_clean_loops_and_training_repairs_gaps_only",
-        )),
-        "tests/test_cleaning_known_answers.py",
-    ],
+    "sktiction/_cleaning.py": _CLEANING_TESTS,
+    "sktiction/cycles/_repairs.py": [*_CLEANING_TESTS, "tests/test_cycles.py"],
     "sktiction/simulation/historian.py": [
         "tests/test_simulation.py", "tests/test_interpolated_exports.py",
         "tests/test_realism.py::test_statistics_separate_hold_compression_and_grid",

@@ -54,6 +54,7 @@ from ._validation import (
     loop_lengths,
     repair_gaps,
 )
+from .cycles._repairs import placeholder_mask, replace_spikes
 from .cycles._signal import (
     fast_percentile,
     lines_through_changes,
@@ -62,25 +63,6 @@ from .cycles._signal import (
     true_runs,
 )
 
-#: Widest spike removed, in samples.
-MAX_SPIKE_WIDTH = 3
-#: Samples either side of a spike that must hold no other jump as large: a spike is alone,
-#: while a fast flat-topped cycle (a sticky valve's levels of 2-3 samples) jumps all the time.
-_QUIET = MAX_SPIKE_WIDTH + 1
-#: Largest share of a record that may be spikes (at least 3 samples): beyond it the signal
-#: itself jumps (pulses, a fast cycle), and nothing is removed.
-MAX_SPIKE_SHARE = 0.01
-#: Beyond any process quantity in any unit: a placeholder wherever it stands.
-IMPLAUSIBLE = 1e20
-#: A placeholder cluster lies this many times the range of the other values away from
-#: them; a real excursion passes through values in between, so it never leaves such a gap.
-_PLACEHOLDER_GAP = 10.0
-#: Most distinct values a placeholder cluster holds (a historian writes one or two codes).
-_PLACEHOLDER_VALUES = 2
-#: Largest share of a record read as placeholders: below half, so that the values left are
-#: the record's majority (a transmitter out for the last hours of a day's export writes
-#: -9999 on a quarter or a third of its rows, and read as data it decides the verdict).
-MAX_PLACEHOLDER_SHARE = 0.45
 #: Fewest value changes from which a hold grid is believed (a chance alignment of 20
 #: changes on one phase of 2 has probability 2e-6).
 MIN_HOLD_CHANGES = 20
@@ -102,199 +84,10 @@ _STEPPED_LONGEST = 0.5
 _STEPPED_REVISITS = 0.5
 
 
-def _spike_limit(x, d):
-    """How far a spike must stand out (``x`` finite, ``d`` = ``diff(x)``): six robust sds
-    of the steps (on a held or quantised record, whose typical step is 0, of its typical
-    change instead), and 0.6 of the 5-95 % spread, so neither noise, a recording grid nor a
-    cycle's own peaks count. ``inf`` when no step is that large (most records: the spread,
-    which needs a partition, is then not computed)."""
-    # scales from about 2,000 evenly spread samples: as robust, and cheap on long records
-    every = max(1, d.size // 2000)
-    steps = np.abs(d)
-    if steps.size < 8:
-        return np.inf
-    scale = np.median(steps[::every])  # steps are centred: |d|'s median is their MAD
-    if scale == 0:
-        changes = steps[steps > 0]
-        if changes.size < 3:
-            return np.inf
-        scale = np.median(changes)
-    limit = 6.0 * 1.4826 * scale
-    if not (steps > limit).any():
-        return np.inf
-    lo, hi = fast_percentile(x[::every], [5, 95])
-    return max(limit, 0.6 * (hi - lo))
-
-
-def _tail_run(y, d, big, limit):
-    """Spike samples among the last :data:`MAX_SPIKE_WIDTH` of ``y``, which have one
-    neighbour only: a run at the end beyond ``limit`` from the sample before it, reached by
-    the only jump that large within :data:`_QUIET` samples."""
-    found = np.zeros(y.size, dtype=bool)
-    m = y.size
-    for w in range(1, MAX_SPIKE_WIDTH + 1):
-        if m < w + 2 + _QUIET:
-            break
-        j = m - w - 1  # the jump into the run at the end
-        if big[j] and not big[j - _QUIET : j].any():
-            if ((y[j + 1 :] - y[j]) * np.sign(d[j]) > limit).all():
-                found[j + 1 :] = True
-                break
-    return found
-
-
-def _end_runs(y, d, big, limit):
-    """:func:`_tail_run` at both ends of ``y`` (the start read backwards). A "Bad" value in
-    the last row otherwise stays and sets the record's span; what is lost instead is a
-    real slip in the last rows, one to three samples of it."""
-    head = _tail_run(y[::-1], -d[::-1], big[::-1], limit)[::-1]
-    return _tail_run(y, d, big, limit) | head
-
-
-def spike_mask(x):
-    """Samples of ``x`` (1-D) that are spikes: runs of one to :data:`MAX_SPIKE_WIDTH`
-    samples that jump away by more than the limit and straight back to within half of it,
-    with no other jump as large within :data:`_QUIET` samples. Neighbours are read across
-    NaN holes (a "Bad" value beside a hole is a spike too); none when more than
-    :data:`MAX_SPIKE_SHARE` of the record would be.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from sktiction._cleaning import spike_mask
-    >>> x = np.sin(np.arange(200) / 10.0)
-    >>> x[50] = -9999.0                                  # a "Bad" value
-    >>> step = np.r_[np.zeros(100), np.ones(100)]        # a slip stays where it went
-    >>> np.flatnonzero(spike_mask(x)).tolist(), int(spike_mask(step).sum())
-    ([50], 0)
-    """
-    x = np.asarray(x, dtype=float)
-    mask = np.zeros(x.size, dtype=bool)
-    finite = np.flatnonzero(np.isfinite(x))
-    y = x[finite]
-    d = np.diff(y)
-    limit = _spike_limit(y, d)
-    if not np.isfinite(limit):
-        return mask
-    big = np.abs(d) > limit
-    start = np.flatnonzero(big)  # jumps away (or back): a few at most
-    n_big = np.concatenate([[0], np.cumsum(big)])  # big jumps before each step
-    found = np.zeros(y.size, dtype=bool)
-    for w in range(1, MAX_SPIKE_WIDTH + 1):
-        i = start[start + w + 1 < y.size]
-        before, after = y[i], y[i + w + 1]
-        hit = big[i + w] & (np.sign(d[i]) == -np.sign(d[i + w]))
-        hit &= np.abs(after - before) <= limit / 2
-        base = (before + after) / 2
-        for j in range(1, w + 1):
-            hit &= (y[i + j] - base) * np.sign(d[i]) > limit
-        lo, hi = np.maximum(i - _QUIET, 0), np.minimum(i + w + 1 + _QUIET, d.size)
-        hit &= (n_big[hi] - n_big[lo]) == (n_big[i + w + 1] - n_big[i])  # alone
-        for j in range(1, w + 1):
-            found[i[hit] + j] = True
-    found |= _end_runs(y, d, big, limit)
-    if found.sum() > max(3, MAX_SPIKE_SHARE * y.size):
-        return mask
-    mask[finite[found]] = True
-    return mask
-
-
-def replace_spikes(x):
-    """Replace the spikes of ``x`` (1-D, in place) by a straight line between their
-    neighbours; returns their mask (:func:`spike_mask`)."""
-    mask = spike_mask(x)
-    if mask.any():
-        t = np.arange(x.size)
-        keep = ~mask & np.isfinite(x)
-        x[mask] = np.interp(t[mask], t[keep], x[keep])
-    return mask
-
-
 def remove_spikes(loop, n):
     """Replace the spikes of each channel of one loop (first ``n`` samples) by a straight
     line between their neighbours, in place; returns how many samples were replaced."""
     return sum(int(replace_spikes(loop[:n, c]).sum()) for c in range(loop.shape[1]))
-
-
-def placeholder_mask(x):
-    """Samples of ``x`` (1-D) that hold a placeholder for missing data: beyond
-    :data:`IMPLAUSIBLE`, or one or two distinct values at either end of the value range
-    (or both ends) that stand apart from all the others by more than
-    :data:`_PLACEHOLDER_GAP` times the others' range and their distance from zero, on at
-    most :data:`MAX_PLACEHOLDER_SHARE` of the record.
-
-    Real moves are left alone: a move to a new level passes through values in between or
-    carries noise (many distinct values); a trip to 0 or a saturation at 100 % from working
-    values is within ten times their distance from zero; a setpoint's few levels are too
-    close to each other. Missed by design: a code within ten times a signal's own level
-    (-9999 on a flow of 3,500-6,500 kg/h) and an outage of half the record or more (the
-    code is then the record's majority).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from sktiction._cleaning import placeholder_mask
-    >>> x = 50 + np.sin(np.arange(300) / 10.0)
-    >>> x[100:120] = -9999.0                             # an outage written as a number
-    >>> np.flatnonzero(placeholder_mask(x))[[0, -1]].tolist()
-    [100, 119]
-    >>> tripped = x.copy()
-    >>> tripped[100:120] = 0.0                           # a trip to 0: a real move
-    >>> int(placeholder_mask(tripped).sum())
-    0
-    """
-    x = np.asarray(x, dtype=float)
-    with np.errstate(invalid="ignore"):
-        mask = np.abs(x) > IMPLAUSIBLE
-    y = x[np.isfinite(x) & ~mask]
-    if y.size < 4:
-        return mask
-    # Most records end here, in O(n): placeholders take at most k of the samples, so
-    # the others hold the k-th smallest and k-th largest (k < n / 2): their range is at
-    # least the distance between these. Their median sample is the (n - k) // 2-th to the
-    # (n + k) // 2-th smallest (codes all at the top, all at the bottom), so it is at
-    # least as far from zero as the nearer of those two when both have one sign (not the
-    # k-th smallest: with codes on the top 40 % of the rows that is the others' 75th
-    # percentile); a placeholder's gap is within the range.
-    k = int(MAX_PLACEHOLDER_SHARE * y.size)
-    lo_m, hi_m = (y.size - k) // 2, (y.size + k) // 2
-    part = np.partition(y, [0, lo_m, k, y.size - 1 - k, hi_m, y.size - 1])
-    a, b = part[k], part[y.size - 1 - k]
-    c, d = part[lo_m], part[hi_m]
-    level = min(abs(c), abs(d)) if c * d > 0 else 0.0
-    if part[-1] - part[0] <= _PLACEHOLDER_GAP * max(b - a, level):
-        return mask
-    values, counts = np.unique(y, return_counts=True)
-    low, high = _codes(values, counts, MAX_PLACEHOLDER_SHARE * y.size)
-    if low:
-        mask |= x <= values[low - 1]
-    if high:
-        mask |= x >= values[values.size - high]
-    return mask
-
-
-def _codes(values, counts, budget):
-    """``(low, high)``: how many of the sorted distinct ``values`` at the bottom and at the
-    top are placeholder codes (``counts`` samples each, at most ``budget`` in all), each end
-    judged against the values left once both ends' codes are out."""
-    n = values.size
-    cum = np.concatenate([[0], np.cumsum(counts)])  # samples below each distinct value
-    best = (0, 0)
-    for low in range(_PLACEHOLDER_VALUES + 1):
-        for high in range(_PLACEHOLDER_VALUES + 1):
-            if low + high <= sum(best) or n - low - high < 3:
-                continue
-            if cum[low] + cum[n] - cum[n - high] > budget:
-                continue
-            first, last = values[low], values[n - high - 1]  # the others' range
-            middle = (cum[low] + cum[n - high]) // 2  # their median sample
-            level = abs(values[np.searchsorted(cum, middle, side="right") - 1])
-            apart = _PLACEHOLDER_GAP * max(last - first, level)
-            if (low == 0 or first - values[low - 1] > apart) and (
-                high == 0 or values[n - high] - last > apart
-            ):
-                best = (low, high)
-    return best
 
 
 def remove_placeholders(loop, n):

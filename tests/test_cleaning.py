@@ -8,23 +8,20 @@ import pytest
 from sktiction import clean_loops
 from sktiction._cleaning import (
     GAP_COLUMNS,
-    IMPLAUSIBLE,
     _controller_r2,
     _paired,
-    _spike_limit,
     align_op,
     as_judged,
     drop_startup,
     hold_step,
     in_step,
     looks_swapped,
-    placeholder_mask,
     remove_spikes,
     repaired,
-    spike_mask,
     startup_rows,
 )
 from sktiction._validation import check_loops, loop_lengths, repair_gaps
+from sktiction.cycles._repairs import IMPLAUSIBLE, _spike_limit, placeholder_mask, spike_mask
 from sktiction.cycles._signal import robust_spread
 from sktiction.datasets import make_loops
 from sktiction.reports.scan import scan_loops

@@ -13,17 +13,15 @@ from sktiction import clean_loops
 from sktiction._cleaning import (
     GAP_COLUMNS,
     _controller_r2,
-    _spike_limit,
     as_judged,
     hold_step,
     in_step,
     looks_swapped,
     op_shift,
-    placeholder_mask,
     repaired,
-    spike_mask,
     startup_rows,
 )
+from sktiction.cycles._repairs import _spike_limit, placeholder_mask, spike_mask
 
 L = 6.0 * 1.4826  # the spike limit of a record whose steps are all 1
 

@@ -31,7 +31,7 @@ from sktiction.cycles._analysis import (
     _with_evidence,
 )
 from sktiction.cycles._oscillation import SCORE_SCALE
-from sktiction.cycles._signal import one_signal
+from sktiction.cycles._repairs import one_signal
 
 STRETCH = 1000
 

@@ -11,6 +11,7 @@ from scipy.special import bdtrc
 
 from ._level_shifts import read_without_shifts
 from ._oscillation import MAX_CONFIRMATION, SCORE_SCALE, _components, _power_spectrum
+from ._repairs import one_signal
 from ._signal import (
     dominant_period,
     fast_median,
@@ -18,7 +19,6 @@ from ._signal import (
     first_lobe,
     moving_average,
     noise_std,
-    one_signal,
     remove_mean,
     schmitt_crossings,
     true_runs,
@@ -392,7 +392,7 @@ def analyze_cycles(
         dropped; NaN or infinite values inside the record are repaired as a scan
         repairs them, with a warning: gaps of at most 1 % of the record bridged, past a
         longer one the longest stretch kept (see
-        :func:`~sktiction.cycles._signal.one_signal`).
+        :func:`~sktiction.cycles._repairs.one_signal`).
     min_cycles : int, default=3
         Fewest consecutive regular full cycles that make an oscillating stretch.
     hysteresis : float, default=3.0

@@ -9,7 +9,8 @@ import numpy as np
 from scipy.fft import irfft, next_fast_len, rfft
 
 from ._level_shifts import read_without_shifts
-from ._signal import one_signal, unit_scaled
+from ._repairs import one_signal
+from ._signal import unit_scaled
 
 
 @dataclass

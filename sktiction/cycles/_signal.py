@@ -2,107 +2,10 @@
 
 from __future__ import annotations
 
-import warnings
 from functools import lru_cache
 
 import numpy as np
 from numba import njit
-
-from .._validation import repair_gaps
-
-#: Longest gap :func:`one_signal` bridges, as a share of the record (at least one
-#: sample): a few lost samples are a historian's; a longer gap ends a stretch.
-MAX_BRIDGED_RUN = 0.01
-
-
-def one_signal(x, name="x"):
-    """``x`` as a 1-D float array, without NaN padding at either end, with spikes,
-    placeholders and gaps repaired as a scan repairs them.
-
-    A loop array pads shorter records with NaN at the end (tslearn's layout), so
-    ``X[i, :, 1]`` of such an array is read as the record it holds; padding at the
-    start is dropped too. The rest is repaired with the rules a scan applies to each
-    channel of a loop, and a warning says what was done (sample numbers are the
-    input's): spikes (one to three samples far from both neighbours,
-    :func:`~sktiction._cleaning.spike_mask`) are replaced by straight lines,
-    placeholders for missing data written as numbers (-9999 for a stretch,
-    :func:`~sktiction._cleaning.placeholder_mask`) are read as missing, and a gap (or any
-    value that is not finite) of at most 1 % of the record (at least one sample) is
-    bridged by a straight line, while a longer one splits the record and the longest
-    stretch is kept. Input that is not one signal or holds no value is an error: a gap
-    must not read as "not oscillating".
-    """
-    x = np.asarray(x, dtype=float)
-    if x.ndim != 1:
-        raise ValueError(f"{name} must be one signal (1-D); got shape {x.shape}.")
-    lost = ~np.isfinite(x)  # as given: placeholders read as missing are not counted here
-    x, notes = _artefacts_out(x, ~lost)
-    finite = np.isfinite(x)
-    if finite.all() and x.size:
-        return _noted(x, name, notes)
-    if not finite.any():
-        raise ValueError(f"{name} holds no value (length {x.size}, all NaN or infinite).")
-    size = x.size
-    first, last = int(np.argmax(finite)), size - int(np.argmax(finite[::-1]))
-    if np.isnan(x[:first]).all() and np.isnan(x[last:]).all():  # padding at either end
-        if lost[:first].sum() < first or lost[last:].sum() < size - last:
-            notes.append(f"read from sample {first} to {last} (placeholders at an end)")
-        x, finite, lost = x[first:last], finite[first:last], lost[first:last]
-    else:
-        first = 0
-    if finite.all():
-        return _noted(x, name, notes)
-    limit = max(1, int(MAX_BRIDGED_RUN * x.size))
-    fixed, info = repair_gaps(np.where(finite, x, np.nan)[None, :, None], max_gap=limit)
-    a, b = int(info["kept_start"].iloc[0]), int(info["kept_stop"].iloc[0])
-    done = []
-    if info["n_gaps_split"].iloc[0]:
-        done.append("the longest stretch between gaps of more than 1 % of it kept, rows "
-                    f"{first + a}-{first + b}")
-    if info["n_bridged"].iloc[0]:
-        done.append("short gaps bridged by straight lines")
-    if lost.any():
-        notes.append(f"{int(lost.sum())} NaN or infinite value(s) inside the record (first at "
-                     f"sample {first + int(np.argmax(lost))} of {size}): " + "; ".join(done))
-    else:
-        notes.extend(done)
-    return _noted(np.ascontiguousarray(fixed[0, : b - a, 0]), name, notes)
-
-
-def _artefacts_out(x, finite):
-    """``x`` (``finite`` where it is) with its spikes replaced by straight lines and its
-    placeholders set to NaN,
-    as a scan reads each channel (spikes first: a lone -9999 is a spike, not a gap), and
-    what was done; ``x`` itself when it holds neither (most records). A record whose
-    median magnitude exceeds 1 is read divided by a power of two near it (exact), so that
-    a record near 1e300 does not overflow and a record near 1e20 is not read as codes (a
-    scan's loops are in process units; a signal here may be in any)."""
-    from .._cleaning import placeholder_mask, replace_spikes  # loop-level code builds on this
-
-    size = np.abs(x[finite])
-    # the median by partition (the mean of two middles could overflow near 1e308); never
-    # below 1: a record of tiny values is read in its own units, as a scan reads it
-    typical = np.partition(size, size.size // 2)[size.size // 2] if size.size else 0.0
-    unit = 2.0 ** min(int(np.frexp(typical)[1]), 1023) if typical > 1 else 1.0
-    y, notes = x / unit, []
-    spikes = replace_spikes(y)
-    if spikes.any():
-        notes.append(f"{int(spikes.sum())} spike sample(s) replaced by straight lines "
-                     f"(first at sample {int(np.argmax(spikes))})")
-    held = placeholder_mask(y) & finite  # inf is not a code: it is read as lost
-    if held.any():
-        y[held] = np.nan
-        notes.append(f"{int(held.sum())} placeholder value(s) for missing data (such as -9999) "
-                     f"read as missing (first at sample {int(np.argmax(held))})")
-    return (y * unit if notes else x), notes
-
-
-def _noted(x, name, notes):
-    """``x``, after one warning that lists ``notes`` (what was repaired), if any."""
-    if notes:
-        warnings.warn(f"{name}: " + "; ".join(notes) + ".", UserWarning, stacklevel=4)
-    return x
-
 
 #: Magnitudes within 2**±200 (about 1e±60) are read in their own units.
 _UNIT_RANGE = 200
