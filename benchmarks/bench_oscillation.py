@@ -32,6 +32,7 @@ Run: python benchmarks/bench_oscillation.py [--n 200] [--measured] [--figures DI
      python benchmarks/bench_oscillation.py --level-steps --n 300  (cycles under level shifts)
      python benchmarks/bench_oscillation.py --artefacts --n 200  (spikes, placeholders, trips)
      python benchmarks/bench_oscillation.py --drifting-period  (period changing in the record)
+     python benchmarks/bench_oscillation.py --saturated --n 300  (held at a limit)
 """
 
 from __future__ import annotations
@@ -942,6 +943,52 @@ def run_drifting_period(seed=0, per_cell=30):
             print(f"| {name} | {noise:g} | " + " | ".join(cells) + " |")
 
 
+#: Records held at a limit (``--saturated``): noise (quiet) and cycles (oscillating).
+SATURATED = ("saturated_noise", "saturated_cycles", "pulses_reaching_a_limit",
+             "pulses_resting_at_a_limit")  # fmt: skip
+
+
+def make_saturated(kind, rng):
+    """A record held at a limit, as a valve fully open or shut or a clamped output holds
+    it, top or bottom at random: (x, truth). *saturated_noise*: the coloured noise of
+    :func:`_coloured_noise` held on 5-40 % of its samples (quiet). *saturated_cycles*: a
+    sine, triangle or saw-tooth of 20-150 samples (period wander 12-25 %, amplitude
+    10-25 %, noise 0.1-0.7) held on 5-40 %. Pulse trains high for 15-35 % of each cycle
+    under the same wander and noise, *reaching* a limit with their pulses (held on
+    50-100 % of their high side) or *resting* at one between them (30-90 % of their low
+    side)."""
+    n = int(np.exp(rng.uniform(np.log(600), np.log(3000))))
+    if kind == "saturated_noise":
+        x, truth, held = _coloured_noise(rng, n)[0], 0, rng.uniform(0.05, 0.4)
+    else:
+        p, truth = rng.uniform(20, min(150.0, n / 6)), 1
+        wander = (rng.uniform(0.12, 0.25), rng.uniform(0.1, 0.25))
+        if kind == "saturated_cycles":
+            shape, duty = rng.choice(["sine", "triangle", "saw"]), 0.5
+            held = rng.uniform(0.05, 0.4)
+        else:
+            shape, duty = "pulse", rng.uniform(0.15, 0.35)
+            if kind == "pulses_reaching_a_limit":
+                held = duty * rng.uniform(0.5, 1.0)
+            else:
+                held = (1 - duty) * rng.uniform(0.3, 0.9)
+        x = _wandering(rng, n, p, *wander, shape, duty) + _noise(rng, n, rng.uniform(0.1, 0.7))
+    if kind == "pulses_resting_at_a_limit":  # held at the bottom, the low side
+        x = np.maximum(x, np.quantile(x, held))
+    else:
+        x = np.minimum(x, np.quantile(x, 1 - held))
+    return rng.choice([-1, 1]) * x, truth
+
+
+def run_saturated(n_per_class, seed=0):
+    """Share called oscillating of each class of :func:`make_saturated`."""
+    for i, kind in enumerate(SATURATED):
+        rng = np.random.default_rng([seed, 3000 + i])
+        hits = [read_quietly(make_saturated(kind, rng)[0]).oscillating for _ in range(n_per_class)]
+        what = "false alarms" if kind == "saturated_noise" else "recall"
+        print(f"{kind}: {what} {np.mean(hits):.2f} ({n_per_class} signals)")
+
+
 def run_level_steps(n_per_class, seed=0, per_cell=40):
     """Cycles under level shifts, read as they are and with the second reading: a grid
     of one step (size in cycle amplitudes x period), then the *level_steps* class by
@@ -1088,11 +1135,19 @@ def main():
         help="spikes, placeholders for missing data, trips: found now and as before",
     )
     parser.add_argument(
+        "--saturated",
+        action="store_true",
+        help="noise and cycles held at a limit (a valve fully open or shut)",
+    )
+    parser.add_argument(
         "--drifting-period",
         action="store_true",
         help="cycles whose period changes by a factor across the record",
     )
     args = parser.parse_args()
+    if args.saturated:
+        run_saturated(args.n, args.seed)
+        return
     if args.drifting_period:
         run_drifting_period(args.seed)
         return

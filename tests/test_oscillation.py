@@ -8,7 +8,14 @@ import pytest
 
 from sktiction import OscillationFeatures
 from sktiction.cycles import analyze_cycles, detect_oscillations
-from sktiction.cycles._analysis import CONFIRM_ACF, _above_shares, _fall_shares, _lopsided
+from sktiction.cycles._analysis import (
+    CONFIRM_ACF,
+    LIMIT_SHARE,
+    _above_shares,
+    _fall_shares,
+    _limit_explains,
+    _lopsided,
+)
 
 # the nearest benchmarks/ above this file (mutation testing runs a copy of tests/ one
 # level further down)
@@ -448,6 +455,43 @@ def test_noise_of_any_spectrum_seldom_reads_lopsided():
                 )
     assert read >= 250
     assert lopsided <= 0.025 * read
+
+
+@pytest.mark.parametrize("side", [1, -1])
+def test_a_limit_explains_only_the_lopsidedness_it_makes(side):
+    # 1,000 samples of which 50 (LIMIT_SHARE) sit at the highest value: cycles that stay
+    # longer above their crossing level are what such a limit makes, shorter ones are not;
+    # one sample fewer at the limit is no limit; mirrored, the same at the lowest value
+    x = side * np.r_[np.full(50, 10.0), np.linspace(-1.0, 9.0, 950)]
+    longer, shorter = np.array([0.7, 0.6]), np.array([0.3, 0.4])
+    if side < 0:
+        longer, shorter = shorter, longer
+    assert int(LIMIT_SHARE * x.size) == 50
+    assert _limit_explains(x, longer) and not _limit_explains(x, shorter)
+    x[0] = x[1] - 0.5 * side  # 49 at the limit
+    assert not _limit_explains(x, longer)
+
+
+def test_noise_held_at_a_limit_is_not_taken_for_lopsided_cycles():
+    # coloured noise of the benchmark held at a limit (a valve fully open or shut) on
+    # 5-40 % of its samples: the limit keeps its cycles longer on its side, which the test
+    # of their time above the crossing level took for a pulse train's. Called oscillating:
+    # 8 of 150 (21 when the limit is not looked at). Pulse trains whose pulses reach a
+    # limit, their short side there (the opposite of what a limit does to noise), are
+    # found as often as before: 50 of 60 (41 when any limit voided the test)
+    bench = _bench()
+    noise, pulses = (np.random.default_rng([7, 3100 + bench.SATURATED.index(k)])
+                     for k in ("saturated_noise", "pulses_reaching_a_limit"))  # fmt: skip
+    alarms = sum(
+        bench.read_quietly(bench.make_saturated("saturated_noise", noise)[0]).oscillating
+        for _ in range(150)
+    )
+    found = sum(
+        bench.read_quietly(bench.make_saturated("pulses_reaching_a_limit", pulses)[0]).oscillating
+        for _ in range(60)
+    )
+    assert alarms <= 12
+    assert found >= 46
 
 
 def test_coloured_noise_with_a_resonance_bump_is_not_an_oscillation():

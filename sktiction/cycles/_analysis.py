@@ -54,6 +54,10 @@ SWING_PERCENTILE = 5.0
 #: ... when the two lie more than this share of the swing apart: a cycle lopsided in
 #: level, not a symmetric one whose middle differs from its mean by noise alone.
 MIDDLE_SHIFT = 0.03
+#: A record that holds its highest (or lowest) value on at least this share of its
+#: samples is held at a limit there (a valve fully open or shut, a clamped output); the
+#: share from which repeats count as a historian's (``_oscillation._fill_repeats``).
+LIMIT_SHARE = 0.05
 
 
 @dataclass
@@ -319,6 +323,20 @@ def _lopsided(shares):
     return 2 * bdtrc(k - 1, n, 0.5) < LOPSIDED_LEVEL  # P(k or more of n on one side)
 
 
+def _limit_explains(x, aboves):
+    """Whether a limit that ``x`` is held at explains why its cycles are lopsided in level
+    (``aboves``, :func:`_above_shares`): held at its highest value (:data:`LIMIT_SHARE`)
+    while the cycles stay longer above their crossing level, or at its lowest while they
+    stay longer below. A limit breaks the upside-down symmetry that :func:`_lopsided`
+    tests: noise that saturates spends its long side there, a pulse train whose pulses
+    reach a limit its short side."""
+    tol = 1e-9 * np.ptp(x)
+    top = np.count_nonzero(x >= x.max() - tol) >= LIMIT_SHARE * x.size
+    bottom = np.count_nonzero(x <= x.min() + tol) >= LIMIT_SHARE * x.size
+    above = np.median(aboves) > 0.5
+    return bool((top and above) or (bottom and not above))
+
+
 def _set_detection(analysis, components, threshold, min_acf):
     """Fill the detection fields of ``analysis`` from the components."""
     found = [c for c in components if c.index > threshold]
@@ -373,7 +391,8 @@ def analyze_cycles(
     (they rise faster than they fall or the reverse, as a stick-slip saw-tooth does, or
     stay longer on one side of their mean than on the other, as a pulse train does,
     beyond chance: :data:`LOPSIDED_LEVEL`, :data:`LOPSIDED_MARGIN`, ``fall_share``,
-    ``above_share``), the component of their period
+    ``above_share``; the longer side not the one a record is held at, :data:`LIMIT_SHARE`,
+    which keeps saturated noise there), the component of their period
     gets :data:`CYCLE_EVIDENCE` added to its score (:data:`LOPSIDED_EVIDENCE` when
     lopsided; so a record of three to six
     clean slow cycles, which the spectrum alone cannot tell from a random walk, is
@@ -536,7 +555,7 @@ def _read_cycles(
     analysis.above_share = float(np.median(aboves))
     evidence = 0.0  # only regular cycles confirm: the tests are not run for the others
     if regularity > REGULARITY_THRESHOLD:
-        if _lopsided(falls) or _lopsided(aboves):
+        if _lopsided(falls) or (_lopsided(aboves) and not _limit_explains(x, aboves)):
             evidence = LOPSIDED_EVIDENCE
         elif strength > CONFIRM_ACF:
             evidence = CYCLE_EVIDENCE
