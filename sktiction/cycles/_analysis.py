@@ -54,10 +54,9 @@ SWING_PERCENTILE = 5.0
 #: ... when the two lie more than this share of the swing apart: a cycle lopsided in
 #: level, not a symmetric one whose middle differs from its mean by noise alone.
 MIDDLE_SHIFT = 0.03
-#: A record that holds its highest (or lowest) value on at least this share of its
-#: samples is held at a limit there (a valve fully open or shut, a clamped output); the
-#: share from which repeats count as a historian's (``_oscillation._fill_repeats``).
-LIMIT_SHARE = 0.05
+#: Cycles lopsided in level confirm only on a record whose level is bimodal: Sarle's
+#: bimodality coefficient above that of a uniform distribution (see :func:`_bimodal`).
+BIMODAL = 5 / 9
 
 
 @dataclass
@@ -323,18 +322,22 @@ def _lopsided(shares):
     return 2 * bdtrc(k - 1, n, 0.5) < LOPSIDED_LEVEL  # P(k or more of n on one side)
 
 
-def _limit_explains(x, aboves):
-    """Whether a limit that ``x`` is held at explains why its cycles are lopsided in level
-    (``aboves``, :func:`_above_shares`): held at its highest value (:data:`LIMIT_SHARE`)
-    while the cycles stay longer above their crossing level, or at its lowest while they
-    stay longer below. A limit breaks the upside-down symmetry that :func:`_lopsided`
-    tests: noise that saturates spends its long side there, a pulse train whose pulses
-    reach a limit its short side."""
-    tol = 1e-9 * np.ptp(x)
-    top = np.count_nonzero(x >= x.max() - tol) >= LIMIT_SHARE * x.size
-    bottom = np.count_nonzero(x <= x.min() + tol) >= LIMIT_SHARE * x.size
-    above = np.median(aboves) > 0.5
-    return bool((top and above) or (bottom and not above))
+def _bimodal(y):
+    """Whether the level of ``y`` sits at two values more than it spreads between them:
+    Sarle's bimodality coefficient, skewness squared plus one over kurtosis (Pearson's
+    inequality puts it at most 1, reached by a distribution on two points; a uniform
+    distribution gives 5/9, a Gaussian 1/3) above :data:`BIMODAL`.
+
+    A pulse train dwells at its two levels; noise is lopsided in level only by being
+    skewed or held at a limit, and stays unimodal. The test of the cycles' time above
+    their crossing level (:func:`_lopsided`) rests on the symmetry of a Gaussian process
+    upside down, which neither keeps: their cycles stay longer on one side too."""
+    d = y - y.mean()
+    m2 = np.mean(d * d)
+    if m2 <= 0:
+        return False
+    m3, m4 = np.mean(d**3), np.mean(d**4)
+    return bool((m3 * m3 / m2**3 + 1) * m2 * m2 > BIMODAL * m4)
 
 
 def _set_detection(analysis, components, threshold, min_acf):
@@ -391,8 +394,8 @@ def analyze_cycles(
     (they rise faster than they fall or the reverse, as a stick-slip saw-tooth does, or
     stay longer on one side of their mean than on the other, as a pulse train does,
     beyond chance: :data:`LOPSIDED_LEVEL`, :data:`LOPSIDED_MARGIN`, ``fall_share``,
-    ``above_share``; the longer side not the one a record is held at, :data:`LIMIT_SHARE`,
-    which keeps saturated noise there), the component of their period
+    ``above_share``, the latter on a record whose level is bimodal, :data:`BIMODAL`, as a
+    pulse train's is and skewed or saturated noise's is not), the component of their period
     gets :data:`CYCLE_EVIDENCE` added to its score (:data:`LOPSIDED_EVIDENCE` when
     lopsided; so a record of three to six
     clean slow cycles, which the spectrum alone cannot tell from a random walk, is
@@ -555,7 +558,7 @@ def _read_cycles(
     analysis.above_share = float(np.median(aboves))
     evidence = 0.0  # only regular cycles confirm: the tests are not run for the others
     if regularity > REGULARITY_THRESHOLD:
-        if _lopsided(falls) or (_lopsided(aboves) and not _limit_explains(x, aboves)):
+        if _lopsided(falls) or (_lopsided(aboves) and _bimodal(smooth)):
             evidence = LOPSIDED_EVIDENCE
         elif strength > CONFIRM_ACF:
             evidence = CYCLE_EVIDENCE
