@@ -1,5 +1,7 @@
 """Historian artefacts undone before any loop is analysed, by a scan (:func:`repaired`)
-and by every classifier (:func:`as_judged`).
+and by every classifier (:func:`as_judged`). The rules that read one record alone (spikes,
+placeholders) are in :mod:`sktiction.cycles._repairs`, which ``analyze_cycles`` reads a
+record with too.
 
 - **Spikes**: one to three samples far from both neighbours, which agree with each other
   (a "Bad" value written as 0 or -9999, a transmitter glitch). A single one wrecks every

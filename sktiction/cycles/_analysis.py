@@ -328,10 +328,11 @@ def _bimodal(y):
     inequality puts it at most 1, reached by a distribution on two points; a uniform
     distribution gives 5/9, a Gaussian 1/3) above :data:`BIMODAL`.
 
-    A pulse train dwells at its two levels; noise is lopsided in level only by being
-    skewed or held at a limit, and stays unimodal. The test of the cycles' time above
-    their crossing level (:func:`_lopsided`) rests on the symmetry of a Gaussian process
-    upside down, which neither keeps: their cycles stay longer on one side too."""
+    A pulse train dwells at its two levels; noise lopsided in level, skewed or held at a
+    limit, stays unimodal (up to a limit held on about a quarter of the samples, which
+    becomes a second mode). The test of the cycles' time above their crossing level
+    (:func:`_lopsided`) rests on the symmetry of a Gaussian process upside down, which
+    such noise breaks: its cycles stay longer on one side too."""
     d = y - y.mean()
     m2 = np.mean(d * d)
     if m2 <= 0:
