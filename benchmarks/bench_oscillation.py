@@ -11,8 +11,8 @@ of their mean). Each class below
 makes signals of that kind (truth: oscillating); each non-oscillating class is a matching
 counterpart (coloured noise, random walk, steps, noise with repeated samples, drift alone,
 the PV or OP of an ordinarily tuned PI loop holding its setpoint against a random-walk
-load and measurement noise, and coloured noise under a few setpoint or load steps) on which
-every detection is a false alarm. The generator is
+load and measurement noise, and coloured noise under a few setpoint or load steps, held
+at a limit, or with a skewed level) on which every detection is a false alarm. The generator is
 this file's own, seeded.
 
 Goal: recall >= 0.95 in every oscillating class, false alarms <= 5 % in every other class.
@@ -32,7 +32,7 @@ Run: python benchmarks/bench_oscillation.py [--n 200] [--measured] [--figures DI
      python benchmarks/bench_oscillation.py --level-steps --n 300  (cycles under level shifts)
      python benchmarks/bench_oscillation.py --artefacts --n 200  (spikes, placeholders, trips)
      python benchmarks/bench_oscillation.py --drifting-period  (period changing in the record)
-     python benchmarks/bench_oscillation.py --saturated --n 300  (held at a limit)
+     python benchmarks/bench_oscillation.py --saturated --n 300  (cycles held at a limit)
 """
 
 from __future__ import annotations
@@ -150,6 +150,14 @@ def _coloured_noise(rng, n):
         period, zeta = rng.uniform(10, 150), rng.uniform(0.35, 0.7)
         x = _ar2(rng, n, period, zeta)
     return x / x.std() + _noise(rng, n, rng.uniform(0.0, 0.5)), zeta
+
+
+def _at_limit(x, held, bottom=False):
+    """``x`` held at a limit on the share ``held`` of its samples: at its top, or at its
+    bottom (a valve fully open or shut, a clamped output)."""
+    if bottom:
+        return np.maximum(x, np.quantile(x, held))
+    return np.minimum(x, np.quantile(x, 1 - held))
 
 
 def _level_moves(rng, n, first, last, smallest):
@@ -953,14 +961,6 @@ def run_drifting_period(seed=0, per_cell=30):
 SATURATED = ("saturated_cycles", "pulses_reaching_a_limit", "pulses_resting_at_a_limit")
 
 
-def _at_limit(x, held, bottom=False):
-    """``x`` held at a limit on the share ``held`` of its samples: at its top, or at its
-    bottom (a valve fully open or shut, a clamped output)."""
-    if bottom:
-        return np.maximum(x, np.quantile(x, held))
-    return np.minimum(x, np.quantile(x, 1 - held))
-
-
 def make_saturated(kind, rng):
     """Cycles held at a limit, top or bottom at random: (x, 1). *saturated_cycles*: a
     sine, triangle or saw-tooth of 20-150 samples (period wander 12-25 %, amplitude
@@ -1141,7 +1141,7 @@ def main():
     parser.add_argument(
         "--saturated",
         action="store_true",
-        help="noise and cycles held at a limit (a valve fully open or shut)",
+        help="cycles held at a limit (a valve fully open or shut)",
     )
     parser.add_argument(
         "--drifting-period",
