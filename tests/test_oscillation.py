@@ -484,14 +484,15 @@ def test_noise_lopsided_in_level_is_not_taken_for_a_pulse_train():
     # (51 without the test of their time above the crossing level)
     bench = _bench()
     skewed, held = (np.random.default_rng([7, s]) for s in (3200, 3201))
-    resting = np.random.default_rng([7, 3100 + bench.SATURATED.index("pulses_resting_at_a_limit")])
     alarms = [
         sum(bench.read_quietly(bench.make_signal(kind, rng)[0]).oscillating for _ in range(150))
         for kind, rng in (("skewed_noise", skewed), ("saturated_noise", held))
     ]
-    kind = "pulses_resting_at_a_limit"
+    pulses = "pulses_resting_at_a_limit"
+    resting = np.random.default_rng([7, 3100 + bench.SATURATED.index(pulses)])
     found = sum(
-        bench.read_quietly(bench.make_saturated(kind, resting)[0]).oscillating for _ in range(60)
+        bench.read_quietly(bench.make_saturated(pulses, resting)[0]).oscillating
+        for _ in range(60)
     )
     assert alarms[0] <= 18 and alarms[1] <= 13
     assert found >= 55
