@@ -152,6 +152,11 @@ def _coloured_noise(rng, n):
     return x / x.std() + _noise(rng, n, rng.uniform(0.0, 0.5)), zeta
 
 
+def _record_length(rng):
+    """Samples in a record: log-uniform from a plant window (~750) to a long export."""
+    return int(np.exp(rng.uniform(np.log(600), np.log(3000))))
+
+
 def _at_limit(x, held, bottom=False):
     """``x`` held at a limit on the share ``held`` of its samples: at its top, or at its
     bottom (a valve fully open or shut, a clamped output)."""
@@ -183,8 +188,7 @@ def make_signal(kind, rng, info=None):
     cycle's deviation over the noise's, :func:`_noisy`) and ``zeta`` for
     *coloured_noise* (the damping ratio of its resonance; NaN for AR(1) noise). Filling
     it draws no random numbers."""
-    # records from a plant window (~750 samples) to a long export; at least 6 cycles
-    n = int(np.exp(rng.uniform(np.log(600), np.log(3000))))
+    n = _record_length(rng)  # at least 6 cycles
     top = min(150.0, n / 6)
     shape = rng.choice(["sine", "sine", "triangle", "square"])
     if kind == "regular":
@@ -902,7 +906,7 @@ def run_gaussianity(n_per_class, seed=0):
             rows.setdefault(kind + band, []).append((k, r))
     rng = np.random.default_rng([seed, 1000])
     for _ in range(n_per_class):
-        n = int(np.exp(rng.uniform(np.log(600), np.log(3000))))
+        n = _record_length(rng)
         x, p = rng.normal(size=n), rng.uniform(15, min(150.0, n / 6))
         rows.setdefault("white noise", []).append((np.nan, band_regularity(x, p)))
     for col, name in ((0, "excess kurtosis"), (1, "Thornhill's r of the zero crossings")):
@@ -968,7 +972,7 @@ def make_saturated(kind, rng):
     of each cycle under the same wander and noise, *reaching* a limit with their pulses
     (held on 50-100 % of their high side) or *resting* at one between them (30-90 % of
     their low side)."""
-    n = int(np.exp(rng.uniform(np.log(600), np.log(3000))))
+    n = _record_length(rng)
     p = rng.uniform(20, min(150.0, n / 6))
     wander = (rng.uniform(0.12, 0.25), rng.uniform(0.1, 0.25))
     if kind == "saturated_cycles":
