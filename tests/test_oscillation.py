@@ -688,6 +688,26 @@ def test_held_samples_are_filled_by_straight_lines():
     assert np.array_equal(_fill_repeats(eight[:-3]), eight[:-3])  # seven: left as recorded
 
 
+@pytest.mark.parametrize("limit", ["top", "bottom"])
+def test_a_limit_reached_every_cycle_stays_flat(limit):
+    # a pulse train clipped at a limit: the runs there are the process's, not the
+    # historian's, and drawn as lines they would make its plateaus ramps; held a few
+    # times only (a trip, an excursion clipped for a second reading) they are drawn
+    from sktiction.cycles._oscillation import LIMIT_RUNS, _fill_repeats
+
+    rng = np.random.default_rng(3)
+    one = np.r_[np.zeros(14), np.ones(6)]  # high for 6 of 20 samples
+    sign = 1 if limit == "top" else -1
+    for cycles in (LIMIT_RUNS, LIMIT_RUNS - 1):
+        x = sign * np.minimum(2 * np.tile(one, cycles) + 0.1 * rng.normal(size=20 * cycles), 1)
+        held = x == x.max() if limit == "top" else x == x.min()
+        filled = _fill_repeats(x)
+        if cycles >= LIMIT_RUNS:
+            np.testing.assert_array_equal(filled[held], x[held])
+        else:  # each run but the last drawn as a line down to the next value
+            assert np.count_nonzero(filled[held] != x[held]) >= cycles - 1
+
+
 def test_harmonics_of_a_saw_tooth_are_not_components():
     # every harmonic (2nd, 3rd, ...) of a saw-tooth, as a sticky valve's OP draws it
     t = np.arange(3000)
@@ -816,9 +836,27 @@ def test_a_harmonic_must_carry_less_than_its_fundamental():
 
     slow = SimpleNamespace(index=0.9, period=90.0, share=0.6)
     third = SimpleNamespace(index=0.8, period=30.0, share=0.2)
-    assert _harmonic(third, slow, 0.5)
-    assert not _harmonic(SimpleNamespace(index=0.8, period=30.0, share=0.7), slow, 0.5)
-    assert not _harmonic(SimpleNamespace(index=0.8, period=31.0, share=0.2), slow, 0.5)  # 2.9
-    assert not _harmonic(third, SimpleNamespace(index=0.5, period=90.0, share=0.6), 0.5)
-    assert not _harmonic(SimpleNamespace(index=0.8, period=15.0, share=0.2), slow, 0.5)  # 6th
+    assert _harmonic(third, 30.0, slow, 0.5)
+    assert not _harmonic(SimpleNamespace(index=0.8, period=30.0, share=0.7), 30.0, slow, 0.5)
+    assert not _harmonic(SimpleNamespace(index=0.8, period=31.0, share=0.2), 31.0, slow, 0.5)
+    assert not _harmonic(third, 30.0, SimpleNamespace(index=0.5, period=90.0, share=0.6), 0.5)
+    assert not _harmonic(SimpleNamespace(index=0.8, period=15.0, share=0.2), 15.0, slow, 0.5)
+    # the period tested is the one given (the narrow band's, when the ACF's is mixed)
+    mixed = SimpleNamespace(index=0.9, period=21.0, share=0.1)  # 90 / 21 = 4.3
+    assert _harmonic(mixed, 18.0, slow, 0.5)
+    assert not _harmonic(mixed, 21.0, slow, 0.5)
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.01, 0.03])
+def test_a_square_wave_is_one_oscillation(noise):
+    # an on/off signal: the band about its 5th harmonic holds the 3rd and the 7th,
+    # whose mixed ACF period (about 16 of 70) is no harmonic's; read in a narrow band
+    # it is the 5th's. Held at its two values (no noise) the record is all repeats at
+    # its extremes, which stay flat
+    t = np.arange(4000)
+    rng = np.random.default_rng(1)
+    for period in (33, 40, 55, 64, 70, 90, 120, 150):
+        x = (np.sin(2 * np.pi * t / period) > 0) + noise * rng.normal(size=t.size)
+        found = [c.period for c in detect_oscillations(x) if c.index > 0.5]
+        assert found == pytest.approx([period], rel=0.01)
 

@@ -52,15 +52,23 @@ class OscillationComponent:
 
 def _fill_repeats(x):
     """Replace historian repeats (runs of equal samples) by straight lines between the
-    samples where the value changed, when they are common (>= 5 % of the samples)."""
+    samples where the value changed, when they are common (>= 5 % of the samples).
+    Runs at the record's lowest or highest value stay flat when there are at least
+    :data:`LIMIT_RUNS` of them: a limit that a cycle reaches (a saturated OP, a
+    clipped PV) holds once per cycle, and a line would draw a pulse train's plateaus
+    as ramps; a trip, or an excursion clipped for a second reading, holds a few times."""
     d = np.diff(x)
-    if np.mean(d == 0) < 0.05:
+    if np.mean(d == 0) < 0.05 or np.count_nonzero(d) < 7:
         return x
-    keep = np.concatenate([[True], d != 0])
-    idx = np.flatnonzero(keep)
-    if idx.size < 8:
-        return x
-    return np.interp(np.arange(x.size), idx, x[idx])
+    moved = np.flatnonzero(d) + 1
+    rows = [[0], moved, [x.size - 1]]
+    after = moved[moved >= 2]  # rows that end a run of two or more samples, and the last
+    for extreme in (x.min(), x.max()):
+        ends = after[(x[after - 1] == extreme) & (x[after - 2] == extreme)] - 1
+        if ends.size + (x[-1] == x[-2] == extreme) >= LIMIT_RUNS:
+            rows.append(ends)
+    rows = np.unique(np.concatenate(rows))
+    return np.interp(np.arange(x.size), rows, x[rows])
 
 
 def _fresh_spacing(y):
@@ -137,6 +145,11 @@ SCORE_SCALE = 0.2
 FEW_CYCLES_PENALTY = 1.5
 #: Lowest frequency (cycles per record) the spectrum background is read from.
 LOWEST_BACKGROUND = 1.5
+#: Runs held at a record's lowest or highest value from which they are read as a limit.
+LIMIT_RUNS = 4
+#: Band (sd in log frequency) in which a possible harmonic's period is read again: the
+#: neighbours of a 2nd to 5th harmonic lie 0.18-0.69 away (ln 6/5 to ln 2).
+HARMONIC_BANDWIDTH = 0.1
 
 
 def detect_oscillations(
@@ -149,7 +162,9 @@ def detect_oscillations(
     around the peak, so that several oscillations, drift and noise do not mix.
 
     1. Historian repeats (runs of equal samples, when >= 5 % of the samples) are
-       replaced by straight lines between the samples where the value changed.
+       replaced by straight lines between the samples where the value changed; runs
+       at the lowest or highest value stay flat where there are at least
+       :data:`LIMIT_RUNS` of them (a limit the cycle reaches).
     2. The signal is detrended (straight line); its periodogram, smoothed over +-4 %
        of each frequency, gives the candidate peaks between ``min_cycles`` cycles
        per record and ``min_period`` samples per cycle (``k * min_period`` rows in
@@ -298,15 +313,14 @@ def _components(power, m, n, max_components, min_period, min_cycles, bandwidth, 
                 cycle_acf = _cycle_acf(power, found[0], m, n)
         period, regularity, coherence, band_power = found or (m / k, np.nan, 0.0, 0.0)
         share = float(band_power / total) if total > 0 else 0.0
-        out.append(
-            _component(period, regularity, prominence[i], coherence, share, penalty[i], cycle_acf)
-        )
-    out.sort(key=lambda o: -o.index)
+        o = _component(period, regularity, prominence[i], coherence, share, penalty[i], cycle_acf)
+        out.append((o, k))
+    out.sort(key=lambda pair: -pair[0].index)
     kept = []  # one component per period: a side peak's ACF follows the main cycle's
-    for o in out:
-        if not any(_same(o, s) for s in kept):
-            kept.append(o)
-    kept = [o for o in kept if not any(_harmonic(o, s, threshold) for s in kept)]
+    for o, k in out:
+        if not any(_same(o, s) for s, _ in kept):
+            kept.append((o, k))
+    kept = [o for o, k in kept if not _harmonic_of(o, k, kept, power, m, n, threshold)]
     return kept[:max_components]
 
 
@@ -438,12 +452,27 @@ def _same(o, stronger):
     return bool(abs(np.log(o.period / stronger.period)) < 0.25)
 
 
-def _harmonic(o, slower, threshold):
-    """Whether ``o`` is the 2nd to 5th harmonic (within 2 %) of a slower oscillating
-    component that carries more of the signal: part of that cycle's shape."""
+def _harmonic_of(o, k, kept, power, m, n, threshold):
+    """Whether component ``o`` (spectral peak at bin ``k``) is a harmonic of a slower
+    component of ``kept`` (pairs of component and bin). Its band holds its neighbours
+    too (a square wave's 3rd and 7th harmonics about its 5th), whose mixed ACF period
+    lies between theirs, so the period is read in a narrow band as well."""
+    slower = [s for s, _ in kept if s.index > threshold and s.period > o.period]
+    if not slower:
+        return False
+    if any(_harmonic(o, o.period, s, threshold) for s in slower):
+        return True
+    narrow = _band_acf(power, k, m, n, HARMONIC_BANDWIDTH)
+    return narrow is not None and any(_harmonic(o, narrow[0], s, threshold) for s in slower)
+
+
+def _harmonic(o, period, slower, threshold):
+    """Whether ``o``, of period ``period``, is the 2nd to 5th harmonic (within 2 %) of
+    a slower oscillating component that carries more of the signal: part of that
+    cycle's shape."""
     if slower.index <= threshold or not o.period < slower.period or o.share > slower.share:
         return False
-    ratio = slower.period / o.period
+    ratio = slower.period / period
     k = round(ratio)
     return 2 <= k <= 5 and abs(ratio - k) <= 0.02 * k
 
