@@ -62,7 +62,7 @@ def _fill_repeats(x):
         return x
     moved = np.flatnonzero(d) + 1
     rows = [[0], moved, [x.size - 1]]
-    after = moved[moved >= 2]  # rows that end a run of two or more samples, and the last
+    after = moved[moved >= 2]  # a run of two or more samples ends the row before a change
     for extreme in (x.min(), x.max()):
         ends = after[(x[after - 1] == extreme) & (x[after - 2] == extreme)] - 1
         if ends.size + (x[-1] == x[-2] == extreme) >= LIMIT_RUNS:
@@ -145,7 +145,8 @@ SCORE_SCALE = 0.2
 FEW_CYCLES_PENALTY = 1.5
 #: Lowest frequency (cycles per record) the spectrum background is read from.
 LOWEST_BACKGROUND = 1.5
-#: Runs held at a record's lowest or highest value from which they are read as a limit.
+#: Runs held at a record's lowest or highest value from which they are read as a limit
+#: that the cycle reaches once a cycle (a record the detector can find holds 3.5 cycles).
 LIMIT_RUNS = 4
 #: Band (sd in log frequency) in which a possible harmonic's period is read again: the
 #: neighbours of a 2nd to 5th harmonic lie 0.18-0.69 away (ln 6/5 to ln 2).
@@ -457,7 +458,9 @@ def _harmonic_of(o, k, kept, power, m, n, threshold):
     component of ``kept`` (pairs of component and bin). Its band holds its neighbours
     too (a square wave's 3rd and 7th harmonics about its 5th), whose mixed ACF period
     lies between theirs, so the period is read in a narrow band as well."""
-    slower = [s for s, _ in kept if s.index > threshold and s.period > o.period]
+    slower = [
+        s for s, _ in kept if s.index > threshold and s.period > o.period and s.share >= o.share
+    ]
     if not slower:
         return False
     if any(_harmonic(o, o.period, s, threshold) for s in slower):
