@@ -686,6 +686,9 @@ def test_held_samples_are_filled_by_straight_lines():
     eight = np.repeat(np.arange(8.0), 3)  # eight changes are enough to draw lines through
     assert _fill_repeats(eight)[:-3] == pytest.approx(np.arange(21) / 3)
     assert np.array_equal(_fill_repeats(eight[:-3]), eight[:-3])  # seven: left as recorded
+    # the top value visited eight times but held once: a visit is no run, so no limit
+    often = np.insert(np.tile([0.0, 1.0, 1.0, 2.0, 1.0, 1.0], 8), 22, 2.0)  # 2 on rows 21-22
+    assert _fill_repeats(often)[22] == pytest.approx(1.5)
 
 
 @pytest.mark.parametrize("limit", ["top", "bottom"])
