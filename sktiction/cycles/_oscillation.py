@@ -62,7 +62,7 @@ def _fill_repeats(x):
         return x
     moved = np.flatnonzero(d) + 1
     rows = [[0], moved, [x.size - 1]]
-    after = moved[moved >= 2]  # a run of two or more samples ends the row before a change
+    after = moved[moved >= 2]  # a change at row 1 ends a one-sample run (and after - 2 >= 0)
     for extreme in (x.min(), x.max()):
         ends = after[(x[after - 1] == extreme) & (x[after - 2] == extreme)] - 1
         if ends.size + (x[-1] == x[-2] == extreme) >= LIMIT_RUNS:
@@ -146,7 +146,8 @@ FEW_CYCLES_PENALTY = 1.5
 #: Lowest frequency (cycles per record) the spectrum background is read from.
 LOWEST_BACKGROUND = 1.5
 #: Runs held at a record's lowest or highest value from which they are read as a limit
-#: that the cycle reaches once a cycle (a record the detector can find holds 3.5 cycles).
+#: that the cycle reaches once a cycle: more than the 1-3 of trips or of an excursion
+#: clipped for a second reading.
 LIMIT_RUNS = 4
 #: Band (sd in log frequency) in which a possible harmonic's period is read again: the
 #: neighbours of a 2nd to 5th harmonic lie 0.18-0.69 away (ln 6/5 to ln 2).
@@ -317,11 +318,11 @@ def _components(power, m, n, max_components, min_period, min_cycles, bandwidth, 
         o = _component(period, regularity, prominence[i], coherence, share, penalty[i], cycle_acf)
         out.append((o, k))
     out.sort(key=lambda pair: -pair[0].index)
-    kept = []  # one component per period: a side peak's ACF follows the main cycle's
+    pairs = []  # one component per period: a side peak's ACF follows the main cycle's
     for o, k in out:
-        if not any(_same(o, s) for s, _ in kept):
-            kept.append((o, k))
-    kept = [o for o, k in kept if not _harmonic_of(o, k, kept, power, m, n, threshold)]
+        if not any(_same(o, s) for s, _ in pairs):
+            pairs.append((o, k))
+    kept = [o for o, k in pairs if not _harmonic_of(o, k, pairs, power, m, n, threshold)]
     return kept[:max_components]
 
 
@@ -358,10 +359,10 @@ def _band_acf(power, k, m, n, bandwidth):
     """Period, regularity, coherence and power of the component around bin ``k``.
 
     The ACF is the inverse FFT of the band-weighted power. The band weighs less than
-    1e-3 beyond a factor exp(1.3 bandwidth) of its centre's frequency, so only bins
-    within a factor 4 of it are weighted and only bins up to 4 times it transformed:
-    the ACF comes out on a coarser lag grid (8 points per period), and a slow
-    component costs little.
+    1e-3 beyond a factor exp(2.63 bandwidth) of its centre's frequency (3.7 at the
+    default bandwidth of 0.5), so only bins within a factor 4 of it are weighted and
+    only bins up to 4 times it transformed: the ACF comes out on a coarser lag grid (8
+    points per period), and a slow component costs little.
     """
     top = min(power.size - 1, int(np.ceil(4 * k)))
     low = max(1, int(k / 4))
@@ -458,6 +459,7 @@ def _harmonic_of(o, k, kept, power, m, n, threshold):
     component of ``kept`` (pairs of component and bin). Its band holds its neighbours
     too (a square wave's 3rd and 7th harmonics about its 5th), whose mixed ACF period
     lies between theirs, so the period is read in a narrow band as well."""
+    # _harmonic's own conditions first, so the narrow band is read only where they hold
     slower = [
         s for s, _ in kept if s.index > threshold and s.period > o.period and s.share >= o.share
     ]
