@@ -14,8 +14,8 @@ from sktiction.cycles._level_shifts import (
     _drift,
     _sorted_iqr,
     _windows,
-    clipped_excursions,
     level_shifts,
+    without_excursions,
     without_level_shifts,
 )
 
@@ -249,7 +249,7 @@ def test_a_shift_found_beside_the_best_split_must_be_twice_as_clear(monkeypatch)
         slice(None, 30),  # and in the first 2 %
     ],
 )
-def test_an_excursion_that_is_no_level_shift_is_clipped_for_the_second_reading(where):
+def test_an_excursion_that_is_no_level_shift_is_taken_out_for_the_second_reading(where):
     # a cycle of period 50 (amplitude 1, noise 0.2) in 1,500 samples: no shift is found,
     # and read as it is, the code before the clipping found none of these cycles
     t = np.arange(1500)
@@ -259,13 +259,13 @@ def test_an_excursion_that_is_no_level_shift_is_clipped_for_the_second_reading(w
         rng = np.random.default_rng(seed)
         x = np.sin(2 * np.pi * t / 50) + rng.normal(0, 0.2, 1500) + bump
         assert level_shifts(x).size == 0
-        clipped = clipped_excursions(x)
-        assert clipped is not None and clipped.max() < 4 and clipped.min() > -4
+        out = without_excursions(x)
+        assert out is not None and out.max() < 4 and out.min() > -4
         a = analyze_cycles(x)
         assert a.oscillating and abs(a.periods[0] - 50) < 2 and a.level_shifts.size == 0
         # white noise with the same excursion: clipped, and still not oscillating
         quiet = rng.normal(0, 1, 1500) + bump
-        assert clipped_excursions(quiet) is not None
+        assert without_excursions(quiet) is not None
         assert not analyze_cycles(quiet).oscillating
 
 
@@ -273,20 +273,34 @@ def test_only_excursions_beyond_the_far_out_fences_are_clipped():
     rng = np.random.default_rng(5)
     # Gaussian noise passes the far-out fences on about 2 samples in a million (a record
     # of 5,000 about once in 90)
-    assert sum(clipped_excursions(rng.normal(size=5000)) is not None for _ in range(20)) <= 1
+    assert sum(without_excursions(rng.normal(size=5000)) is not None for _ in range(20)) <= 1
     t = np.arange(2000)
-    assert clipped_excursions(np.sin(2 * np.pi * t / 40)) is None  # a sine stays inside
+    assert without_excursions(np.sin(2 * np.pi * t / 40)) is None  # a sine stays inside
     # quartiles 0 and 1 (IQR 1): far-out fences at -3 and 4, inner ones at -1.5 and 2.5;
-    # 10 of 1,000 samples at 5 are beyond, and so is one; 3.9 is not
+    # 10 of 1,000 samples at 5 are beyond, and so is one; 3.9 is not. One run at the end:
+    # bridged, the value before it held to the end
     for n in (10, 1):
         x = np.r_[np.zeros(495), np.ones(1000 - 495 - n), np.full(n, 5.0)]
-        np.testing.assert_array_equal(clipped_excursions(x), np.minimum(x, 2.5))
-    assert clipped_excursions(np.r_[np.zeros(495), np.ones(495), np.full(10, 3.9)]) is None
+        np.testing.assert_array_equal(without_excursions(x), np.minimum(x, 1.0))
+    assert without_excursions(np.r_[np.zeros(495), np.ones(495), np.full(10, 3.9)]) is None
     # half a record on one value has no spread to call anything far
-    assert clipped_excursions(np.r_[np.zeros(600), np.arange(400.0)]) is None
+    assert without_excursions(np.r_[np.zeros(600), np.arange(400.0)]) is None
 
 
-def test_a_trip_of_a_few_samples_is_clipped_for_the_second_reading():
+def test_excursions_that_recur_are_clipped_and_the_others_bridged():
+    # quartiles 0 and 1, inner fences -1.5 and 2.5: three excursions to 9 are bridged
+    # (the samples beside them joined by a line), four are a cycle's pulses and clipped
+    x = np.r_[np.zeros(500), np.ones(500)]
+    for runs in (3, 4):
+        y = x.copy()
+        starts = 50 + 200 * np.arange(runs)
+        for a in starts:
+            y[a : a + 5] = 9.0
+        out = without_excursions(y)
+        np.testing.assert_array_equal(out, np.minimum(y, 2.5) if runs == 4 else x)
+
+
+def test_a_trip_of_a_few_samples_is_taken_out_for_the_second_reading():
     # a cycle of period about 60 (amplitude 1, noise 0.5, period wandering by about 20 %)
     # at an operating point of 50, whose OP trips to 0 for six samples twice in 3,000:
     # 0.4 % of the record, under the 0.5 % that excursions had to reach before, when none
@@ -299,6 +313,6 @@ def test_a_trip_of_a_few_samples_is_clipped_for_the_second_reading():
         phase = np.cumsum(2 * np.pi / (60 * np.exp(0.2 * wander)))
         x = 50 + np.sin(phase) + 0.5 * rng.standard_normal(n)
         x[900:906] = x[2100:2106] = 0.0
-        assert level_shifts(x).size == 0 and clipped_excursions(x) is not None
+        assert level_shifts(x).size == 0 and without_excursions(x) is not None
         found += analyze_cycles(x).oscillating
     assert found >= 18

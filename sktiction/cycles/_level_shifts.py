@@ -6,8 +6,8 @@ there, and into the band around the cycle that its ACF is read from: a
 production-rate change 10-50 times a cycle's amplitude hides most cycles that the eye
 sees at once (``benchmarks/bench_oscillation.py --level-steps``). Where a record that
 shows no oscillation holds such shifts, it is read again without them; where it holds
-none but has an excursion (a bump, a step at the record's very end), again with that
-clipped.
+none but has an excursion (a trip, a bump, a step at the record's very end), again
+without that (bridged by a line, or clipped where it recurs as a cycle's pulses do).
 """
 
 from __future__ import annotations
@@ -26,10 +26,13 @@ SCALES = (1, 2, 4)
 #: A shift found only by searching either side of a stretch's best split must be this many
 #: times as clear: that search tests more points, so chance passes more often.
 HALF_RATIO = 2.0
-#: Share of a record beyond Tukey's far-out fences above which an excursion is clipped for
-#: a second reading (see clipped_excursions): any, since a trip of a few samples hides a
+#: Share of a record beyond Tukey's far-out fences above which an excursion is taken out for
+#: a second reading (see without_excursions): any, since a trip of a few samples hides a
 #: cycle too and the second reading is kept only if it oscillates.
 EXCURSION_SHARE = 0.0
+#: Runs beyond the far-out fences from which they are read as the cycle's own and clipped,
+#: not bridged: a cycle's pulses recur once a cycle, more often than the 1-3 of trips.
+EXCURSION_RUNS = 4
 
 
 def _windows(n):
@@ -219,7 +222,7 @@ def without_level_shifts(x):
 def read_without_shifts(x, read, oscillates):
     """``read(x)``, or, when that reading does not oscillate and ``x`` holds level
     shifts, ``read`` of ``x`` without them if that one oscillates (without shifts but with
-    excursions, of ``x`` with them clipped: :func:`clipped_excursions`): the second reading
+    excursions, of ``x`` without them: :func:`without_excursions`): the second reading
     of :func:`~sktiction.cycles.analyze_cycles` and
     :func:`~sktiction.cycles.detect_oscillations`.
 
@@ -235,7 +238,7 @@ def read_without_shifts(x, read, oscillates):
         return first, np.empty(0, dtype=int)
     flat, shifts = without_level_shifts(x)
     if not shifts.size:
-        flat = clipped_excursions(x)
+        flat = without_excursions(x)
     if flat is not None:
         second = read(flat)
         if oscillates(second):
@@ -243,18 +246,22 @@ def read_without_shifts(x, read, oscillates):
     return first, np.empty(0, dtype=int)
 
 
-def clipped_excursions(x):
-    """``x`` clipped to Tukey's inner fences (1.5 interquartile ranges beyond the
-    quartiles) when more than :data:`EXCURSION_SHARE` of it lies beyond the far-out
-    fences (3 ranges), else None.
+def without_excursions(x):
+    """``x`` without its excursions when more than :data:`EXCURSION_SHARE` of it lies
+    beyond Tukey's far-out fences (3 interquartile ranges beyond the quartiles), else
+    None. Excursions beyond them in fewer than :data:`EXCURSION_RUNS` runs are bridged
+    by straight lines between the samples within the inner fences (1.5 ranges), as a
+    gap is; more (a pulse train's pulses, when its low level holds both quartiles) are
+    the cycle's, and are clipped to the inner fences.
 
     An excursion that is no level shift hides a cycle as a shift does: an operator's bump
     (two opposite steps closer than the shift windows), a step within the outer 3.75 % of
     the record, where no shift is searched, a trip of a few samples (OP to 0 and back:
     two trips of six samples each in 3,000 hid a cycle ten times smaller in every one of
-    20 records while 0.5 % of the record was asked for). A cycle lies within the inner fences (a
-    sine's are 2.8 amplitudes from its median), and Gaussian noise passes the far-out
-    fences on two samples in a million, so only excursions are clipped.
+    20 records while 0.5 % of the record was asked for). Clipped to the fence, a trip
+    still stands 2.8 amplitudes of a sine below its median; bridged, it is gone. A cycle
+    lies within the inner fences, and Gaussian noise passes the far-out fences on two
+    samples in a million, so only excursions are taken out.
     """
     q1, q3 = fast_percentile(x, [25, 75])
     spread = q3 - q1
@@ -263,4 +270,7 @@ def clipped_excursions(x):
     far = (x < q1 - 3.0 * spread) | (x > q3 + 3.0 * spread)
     if not np.count_nonzero(far) > EXCURSION_SHARE * x.size:
         return None
-    return np.clip(x, q1 - 1.5 * spread, q3 + 1.5 * spread)
+    if np.count_nonzero(np.diff(far.astype(np.int8)) == 1) + far[0] >= EXCURSION_RUNS:
+        return np.clip(x, q1 - 1.5 * spread, q3 + 1.5 * spread)
+    inside = np.flatnonzero((x >= q1 - 1.5 * spread) & (x <= q3 + 1.5 * spread))
+    return np.interp(np.arange(x.size), inside, x[inside])

@@ -56,7 +56,7 @@ def _fill_repeats(x):
     Runs at the record's lowest or highest value stay flat when there are at least
     :data:`LIMIT_RUNS` of them: a limit that a cycle reaches (a saturated OP, a
     clipped PV) holds once per cycle, and a line would draw a pulse train's plateaus
-    as ramps; a trip, or an excursion clipped for a second reading, holds a few times."""
+    as ramps; a trip of OP to 0 holds a few times."""
     d = np.diff(x)
     if np.mean(d == 0) < 0.05 or np.count_nonzero(d) < 7:
         return x
@@ -146,8 +146,7 @@ FEW_CYCLES_PENALTY = 1.5
 #: Lowest frequency (cycles per record) the spectrum background is read from.
 LOWEST_BACKGROUND = 1.5
 #: Runs held at a record's lowest or highest value from which they are read as a limit
-#: that the cycle reaches once a cycle: more than the 1-3 of trips or of an excursion
-#: clipped for a second reading.
+#: that the cycle reaches once a cycle: more than the 1-3 of trips.
 LIMIT_RUNS = 4
 #: Band (sd in log frequency) in which a possible harmonic's period is read again: the
 #: neighbours of a 2nd to 5th harmonic lie 0.18-0.69 away (ln 6/5 to ln 2).
