@@ -710,7 +710,7 @@ def test_held_samples_are_filled_by_straight_lines():
 def test_a_limit_reached_every_cycle_stays_flat(limit):
     # a pulse train clipped at a limit: the runs there are the process's, not the
     # historian's, and drawn as lines they would make its plateaus ramps; held a few
-    # times only (a trip, an excursion clipped for a second reading) they are drawn
+    # times only (a trip of OP to 0) they are drawn
     from sktiction.cycles._oscillation import LIMIT_RUNS, _fill_repeats
 
     rng = np.random.default_rng(3)
