@@ -14,7 +14,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._signal import fast_median, fast_percentile, sorted_median, sorted_percentile, unit_scaled
+from ._signal import (
+    fast_median,
+    fast_percentile,
+    sorted_median,
+    sorted_percentile,
+    true_runs,
+    unit_scaled,
+)
 
 #: A shift must exceed this many interquartile ranges of the windows either side of it.
 SHIFT_RATIO = 3.0
@@ -270,7 +277,7 @@ def without_excursions(x):
     far = (x < q1 - 3.0 * spread) | (x > q3 + 3.0 * spread)
     if not np.count_nonzero(far) > EXCURSION_SHARE * x.size:
         return None
-    if np.count_nonzero(np.diff(far.astype(np.int8)) == 1) + far[0] >= EXCURSION_RUNS:
+    if true_runs(far)[0].size >= EXCURSION_RUNS:
         return np.clip(x, q1 - 1.5 * spread, q3 + 1.5 * spread)
     inside = np.flatnonzero((x >= q1 - 1.5 * spread) & (x <= q3 + 1.5 * spread))
     return np.interp(np.arange(x.size), inside, x[inside])

@@ -10,7 +10,7 @@ from scipy.fft import irfft, next_fast_len, rfft
 
 from ._level_shifts import read_without_shifts
 from ._repairs import one_signal
-from ._signal import unit_scaled
+from ._signal import lines_through_changes, unit_scaled
 
 
 @dataclass
@@ -60,15 +60,7 @@ def _fill_repeats(x):
     d = np.diff(x)
     if np.mean(d == 0) < 0.05 or np.count_nonzero(d) < 7:
         return x
-    moved = np.flatnonzero(d) + 1
-    rows = [[0], moved, [x.size - 1]]
-    after = moved[moved >= 2]  # a change at row 1 ends a one-sample run (and after - 2 >= 0)
-    for extreme in (x.min(), x.max()):
-        ends = after[(x[after - 1] == extreme) & (x[after - 2] == extreme)] - 1
-        if ends.size + (x[-1] == x[-2] == extreme) >= LIMIT_RUNS:
-            rows.append(ends)
-    rows = np.unique(np.concatenate(rows))
-    return np.interp(np.arange(x.size), rows, x[rows])
+    return lines_through_changes(x, hold_extremes=True, min_runs=LIMIT_RUNS)
 
 
 def _fresh_spacing(y):

@@ -243,11 +243,12 @@ def on_grid_share(values, step, tolerance=0.05):
     return float(np.mean(np.abs(ratio - np.round(ratio)) < tolerance))
 
 
-def lines_through_changes(x, hold_extremes=False):
+def lines_through_changes(x, hold_extremes=False, min_runs=1):
     """``x`` (1-D, finite) drawn as straight lines through the samples where it takes a
     new value; ``x`` itself when no sample repeats its predecessor. With
     ``hold_extremes``, a run at ``x``'s lowest or highest value stays flat (a saturated
-    OP, a clipped PV, a cycle's held top) and the line leaves it at its last row.
+    OP, a clipped PV, a cycle's held top) and the line leaves it at its last row; only
+    at an extreme held in at least ``min_runs`` runs of two or more samples.
 
     A compressing historian exported stepped (each stored value held until the next)
     moves a tag only at the points it stored, at times of its own for each tag, so the
@@ -271,7 +272,11 @@ def lines_through_changes(x, hold_extremes=False):
         return x
     rows = [[0], moved, [x.size - 1]]
     if hold_extremes:  # the last row of each run at the lowest or highest value, too
-        rows.append(moved[(x[moved - 1] == x.min()) | (x[moved - 1] == x.max())] - 1)
+        after = moved[moved >= 2]  # a change at row 1 ends a one-sample run
+        for extreme in (x.min(), x.max()):
+            ends = after[(x[after - 1] == extreme) & (x[after - 2] == extreme)] - 1
+            if ends.size + (x[-1] == x[-2] == extreme) >= min_runs:
+                rows.append(ends)
     rows = np.unique(np.concatenate(rows))
     return np.interp(np.arange(x.size), rows, x[rows])
 
