@@ -15,13 +15,18 @@ the noise (``meta["stiction_visible"]`` False), as ``pretrained_classifier`` doe
 (``_pretrained._shows_its_label``), unless the third argument is ``all``.
 Printed per value left out: loops tested (sticky / healthy), balanced
 accuracy of ``predict`` (a loop the model does not judge counts as "no stiction", what a
-user gets), the same on identifiable test loops (healthy or visible slips), recall,
-specificity and the share of test loops the model judges (in domain).
+user gets), the same for the reference model trained on the whole other half, value included
+("trained with it": the value's own difficulty, so that the gap to the first column is what
+leaving it out costs), the same on identifiable test loops (healthy or visible slips), on test
+loops whose record shows how the valve moved (healthy, or ``meta["valve_evidence"] < 0.9``:
+the true valve position explains at least a tenth of what OP leaves of PV), left out and
+trained with it, recall, specificity and the share of test loops the model judges (in
+domain). ``--save=FILE`` pickles every value's predictions and the loops' meta data.
 
 The loop features are a pure function of each loop, so they are computed once for all
 loops and memoised; the classifier is otherwise the package's, refitted for every value.
 
-Run: python benchmarks/cross_family.py [n_loops] [n_samples] [identifiable|all]
+Run: python benchmarks/cross_family.py [n_loops] [n_samples] [identifiable|all] [--save=FILE]
 (default ``identifiable``, the package's recipe; ``all`` trains on every loop, the recipe
 before)
 """
@@ -40,6 +45,8 @@ from sktiction.classifiers._pretrained import _shows_its_label
 from sktiction.datasets import make_loops
 
 N_LOOPS = int(sys.argv[1]) if len(sys.argv) > 1 else 2400
+SAVE = next((a[len("--save="):] for a in sys.argv if a.startswith("--save=")), None)
+sys.argv = [a for a in sys.argv if not a.startswith("--save=")]
 N_SAMPLES = int(sys.argv[2]) if len(sys.argv) > 2 else 2000
 TRAIN_ON = sys.argv[3] if len(sys.argv) > 3 else "identifiable"
 SEED = 2024
@@ -92,6 +99,9 @@ def main():
     # another seed than make_loops', whose first draw is the permutation of the labels
     half = np.random.default_rng(SEED + 1).permutation(N_LOOPS) < N_LOOPS // 2
     identifiable = _shows_its_label(meta)
+    # the record shows how the valve moved: adding its true position to OP explains at
+    # least a tenth of what OP leaves of PV (make_loops' meta "valve_evidence")
+    shows = (y == 0) | (meta["valve_evidence"].to_numpy() < 0.9)
     trainable = identifiable if TRAIN_ON == "identifiable" else np.ones(N_LOOPS, dtype=bool)
     print(f"{1 - identifiable[y == 1].mean():.1%} of sticky loops have slips below the noise; "
           f"training on {TRAIN_ON} loops")
@@ -118,7 +128,9 @@ def main():
         pred[~side], judged[~side] = fit_predict(
             np.flatnonzero(side & trainable), np.flatnonzero(~side)
         )
-    rows.append(("(none)", "(none)", y, pred, judged, identifiable))
+    reference = pred.copy()
+    saved = {"(none)": pred.copy()}
+    rows.append(("(none)", "(none)", y, pred, judged, identifiable, reference, shows))
     for family, (column, only) in FAMILIES.items():
         values = RECORDING + ("none",) if column == "recording" else sorted(
             v for v in meta[column].unique() if v != "" and v != "linear"
@@ -131,10 +143,22 @@ def main():
                 train = np.flatnonzero(side & ~member & trainable)
                 test = np.flatnonzero(~side & tested)
                 pred[test], judged[test] = fit_predict(train, test)
+            saved[f"{family}={value}"] = np.where(tested, pred, -1)
             rows.append(
-                (family, value, y[tested], pred[tested], judged[tested], identifiable[tested])
+                (
+                    family,
+                    value,
+                    y[tested],
+                    pred[tested],
+                    judged[tested],
+                    identifiable[tested],
+                    reference[tested],
+                    shows[tested],
+                )
             )
     print(f"{2 * (len(rows))} fits in {time.perf_counter() - t0:.1f} s\n")
+    if SAVE:  # each value's predictions (-1: not tested), to slice otherwise later
+        pd.to_pickle({"meta": meta, "y": y, "predictions": saved}, SAVE)
 
     table = pd.DataFrame(
         [
@@ -144,15 +168,18 @@ def main():
                 "sticky": int(yt.sum()),
                 "healthy": int((yt == 0).sum()),
                 "balanced accuracy": balanced_accuracy_score(yt, pt),
+                "trained with it": balanced_accuracy_score(yt, rt),
                 "identifiable": balanced_accuracy_score(yt[it], pt[it]),
+                "valve shows": balanced_accuracy_score(yt[st], pt[st]),
+                "with it, valve shows": balanced_accuracy_score(yt[st], rt[st]),
                 "recall": pt[yt == 1].mean(),
                 "specificity": 1 - pt[yt == 0].mean(),
                 "judged": jt.mean(),
             }
-            for fam, val, yt, pt, jt, it in rows
+            for fam, val, yt, pt, jt, it, rt, st in rows
         ]
     )
-    with pd.option_context("display.width", 120, "display.float_format", "{:.2f}".format):
+    with pd.option_context("display.width", 200, "display.float_format", "{:.2f}".format):
         print(table.to_string(index=False))
     goal = table[table["family"].isin(list(FAMILIES)[:5])]
     worst = goal.loc[goal["balanced accuracy"].idxmin()]

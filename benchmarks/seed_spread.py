@@ -17,7 +17,7 @@ computed once and every model reads them (``_diagnose_features``, the method beh
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/seed_spread.py [n_draws] [first_draw]
 [--compare] [--control] [--second-simulator] [--third-simulator] [--loops=N]
-[--without=PREFIX] [--monotone=PREFIX]`` (default 10
+[--without=PREFIX] [--monotone=PREFIX] [--evidence=T]`` (default 10
 draws from 0; 10-30 s per draw on 2 idle cores).
 ``--compare`` also trains each draw on every loop, the sticky loops whose slips stay
 inside the noise included (the recipe before they were left out), and prints the paired
@@ -37,7 +37,11 @@ commas, a name ending in ``$`` matched exactly) and prints the change from leavi
 out: what a group of features brings, draw by draw. ``--monotone=PREFIX`` (the same naming) also
 trains each draw's recipe with its booster constrained to a probability of stiction that never
 falls as those columns rise (``monotonic_cst``): domain knowledge of a feature's direction in
-place of what the simulator teaches.
+place of what the simulator teaches. ``--evidence=T`` also trains each draw's recipe without
+its sticky loops whose record does not show how the valve moved (``make_loops``' meta
+``valve_evidence`` of ``T`` or more), and, as a control, without as many of its sticky loops
+picked at random; each model is judged as it predicts and called sticky at the recipe's class
+balance (the probability the smaller sticky share implies).
 """
 
 import sys
@@ -196,10 +200,36 @@ def _monotone(spec, seed):
     return Monotone(**recipe.get_params())
 
 
+def _evidence(seed, sets, threshold):
+    """The recipe without its sticky loops whose valve motion the record does not show
+    (``meta["valve_evidence"] >= threshold``: adding the true valve position to OP
+    explains less than ``1 - threshold`` of what OP leaves of PV), and, as a control, the
+    recipe without as many of its sticky loops at random."""
+    X, y, meta = make_loops(1500, n_samples=2000, random_state=seed, return_meta=True)
+    recipe = _shows_its_label(meta)
+    shown = recipe & ((y == 0) | (meta["valve_evidence"].to_numpy() < threshold))
+    rng = np.random.default_rng(2000 + seed)
+    drop = np.zeros(len(y), dtype=bool)
+    drop[rng.choice(np.flatnonzero(recipe & (y == 1)), int((recipe & ~shown).sum()),
+                    replace=False)] = True  # fmt: skip
+    rows = []
+    for name, keep in ((f"valve evidence < {threshold}", shown),
+                       ("as many at random", recipe & ~drop)):  # fmt: skip
+        clf = make_learned_classifier(random_state=seed, n_jobs=2).fit(X[keep], y[keep])
+        rows.append({"draw": seed, "training": name, **_scores(clf, sets)})
+        # the same model called sticky where the recipe's class balance would put it
+        odds = y[keep].mean() / (1 - y[keep].mean()) * (1 - y[recipe].mean()) / y[recipe].mean()
+        rows.append({"draw": seed, "training": f"{name}, the recipe's prior",
+                     **_scores(clf, sets, odds / (1 + odds))})  # fmt: skip
+    print(f"draw {seed}: {int((recipe & ~shown).sum())} of {int((recipe & (y == 1)).sum())} "
+          "sticky loops left out", flush=True)  # fmt: skip
+    return rows
+
+
 def main(n_draws=10, first=0, compare=False, control=False, others=(), loops=None,
-         without=None, monotone=None):
+         without=None, monotone=None, evidence=None):
     rows, paired, mixed, bigger, ablated, sets = [], [], [], [], [], None
-    constrained = []
+    constrained, shown = [], []
     for seed in range(first, first + n_draws):
         t0 = time.perf_counter()
         X, y = _training_set(seed, 1500, 2000, "default")
@@ -243,6 +273,8 @@ def main(n_draws=10, first=0, compare=False, control=False, others=(), loops=Non
             constrained.append({**rows[-1], "training": "recipe"})
             constrained.append({"draw": seed, "training": "recipe, monotone",
                                 **_scores(mono, sets)})  # fmt: skip
+        if evidence:
+            shown += [{**rows[-1], "training": "recipe"}, *_evidence(seed, sets, evidence)]
         print(f"draw {seed}: trained and judged in {time.perf_counter() - t0:.0f} s", flush=True)
     table = pd.DataFrame(rows).set_index("draw")
     print(table.round(3).to_string())
@@ -260,6 +292,8 @@ def main(n_draws=10, first=0, compare=False, control=False, others=(), loops=Non
         _paired(ablated, base=f"recipe without {without}*")
     if constrained:
         _paired(constrained, base="recipe")
+    if shown:
+        _paired(shown, base="recipe")
 
 
 if __name__ == "__main__":
@@ -273,4 +307,6 @@ if __name__ == "__main__":
         loops=next((int(a.split("=")[1]) for a in sys.argv if a.startswith("--loops=")), None),
         without=next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--without=")), None),
         monotone=next((a.split("=", 1)[1] for a in sys.argv if a.startswith("--monotone=")), None),
+        evidence=next((float(a.split("=")[1]) for a in sys.argv if a.startswith("--evidence=")),
+                      None),
     )

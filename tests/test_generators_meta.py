@@ -180,7 +180,7 @@ lambda valve S J rule gain_factor Kc Ti ts samples_per_cycle snr_db scenario eff
 plant_family action loop_kind kc_factor ti_factor gain_margin samples_per_ultimate_period
 noise_colour loop_type pv_own_share oscillating noise_path drift disturbance setpoint_regime
 recording record_length initial_op pv_scale pv_center warmup pv_per_valve slip_snr
-stiction_visible""".split()
+stiction_visible valve_evidence""".split()
 
 
 def test_default_world_meta_has_the_documented_columns():

@@ -376,6 +376,12 @@ def test_slip_visibility_follows_the_noise(world):
     assert quiet["stiction_visible"].mean() > 0.9
     assert noisy["stiction_visible"].mean() < quiet["stiction_visible"].mean()
     assert quiet["slip_snr"].median() > 10 * noisy["slip_snr"].median()
+    # the true valve position adds to OP's account of PV what the noise leaves visible
+    assert meta.loc[meta["y"] == 0, "valve_evidence"].isna().all()
+    for m in (meta[meta["y"] == 1], quiet, noisy):
+        e = m["valve_evidence"].dropna()
+        assert len(e) >= 0.9 * len(m) and e.between(0.0, 1.0).all()
+    assert quiet["valve_evidence"].median() < 0.5 < noisy["valve_evidence"].median()
 
 
 # ---------------------------------------------------------------- batched pieces vs plain ones
@@ -452,3 +458,24 @@ def test_signs_draw_like_rng_choice():
         assert _signs(a) == b.choice([-1.0, 1.0])
         assert np.array_equal(_signs(a, 5), b.choice([-1.0, 1.0], 5))
         assert a.random() == b.random()
+
+
+def test_valve_evidence_is_what_the_valve_adds_to_op():
+    from sktiction.datasets._default_world import _valve_evidence
+
+    rng = np.random.default_rng(3)
+    n = 2000
+    op = np.cumsum(rng.normal(size=n))
+    valve = op.copy()  # a play operator of band 4: moves only when OP has pushed it 2 away
+    for t in range(1, n):
+        valve[t] = min(max(valve[t - 1], op[t] - 2.0), op[t] + 2.0)
+    lag = lambda u: np.r_[u[:3], 0.5 * u[2:-1] + 0.3 * u[1:-2] + 0.2 * u[:-3]]  # noqa: E731
+    noise = 0.05 * rng.normal(size=n)
+    # PV driven by the valve: OP alone cannot follow its stuck stretches
+    assert _valve_evidence(lag(valve) + noise, op, valve, n, False, 40.0) < 0.05
+    # PV driven by OP itself: the valve adds nothing beyond chance
+    assert _valve_evidence(lag(op) + noise, op, valve, n, False, 40.0) > 0.95
+    # an integrating plant is read in PV's changes
+    assert _valve_evidence(np.cumsum(lag(valve)) + noise, op, valve, n, True, 40.0) < 0.1
+    # too short for the lags: no figure
+    assert np.isnan(_valve_evidence(op[:50], op, valve, 50, False, 40.0))

@@ -485,6 +485,39 @@ def _slip_snr(pv, step, starts, length, pv_per_valve, snr_db):
     return jump * pv_per_valve / noise_sd if noise_sd > 0 else np.inf
 
 
+def _valve_evidence(pv, op, valve, length, integrating, samples_per_cycle):
+    """Share of PV's variance left unexplained by OP that stays unexplained when the true
+    valve position is added: near 1 when the record carries no evidence of how the valve
+    moved beyond what OP says, near 0 when the valve explains what OP cannot.
+
+    Linear fits of PV (of PV's change for an integrating plant) on both inputs at 20 lags
+    or fewer, spread evenly from 1 to half a cycle (10 to 40 samples)."""
+    pv, op, valve = pv[:length], op[:length], valve[:length]
+    if integrating:
+        pv, op, valve = np.diff(pv), op[1:], valve[1:]
+    reach = int(min(40, max(10, 0.5 * samples_per_cycle)))
+    lags = np.arange(1, reach + 1, -(-reach // 20))  # a step of ceil(reach / 20)
+    n = pv.size - reach
+    if n < 4 * reach or not np.isfinite(pv).all():
+        return np.nan
+    k = lags.size
+    design = np.ones((n, 2 * k + 1))
+    for j, lag in enumerate(lags):
+        design[:, j] = op[reach - lag : pv.size - lag]
+        design[:, k + j] = valve[reach - lag : pv.size - lag]
+    target = pv[reach:] - pv[reach:].mean()
+    # normal equations: a fraction of least squares' cost; the rounding they add is far
+    # below the differences this figure reads
+    gram, moment, total = design.T @ design, design.T @ target, target @ target
+
+    def left(columns):
+        coef = np.linalg.lstsq(gram[np.ix_(columns, columns)], moment[columns], rcond=1e-12)[0]
+        return max(total - moment[columns] @ coef, 0.0)
+
+    with_op = left(np.r_[0:k, 2 * k])
+    return float(min(left(np.arange(2 * k + 1)) / with_op, 1.0)) if with_op > 0 else np.nan
+
+
 def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
     """Draw and simulate the default world; sticky loops whose valve never slips in the
     record (a band wider than anything OP does there) are drawn again.
@@ -514,8 +547,13 @@ def _simulate_default(labels, n_samples, n_warm, ts, opt, rng):
                     out[k, :, 0], step, starts, rec[k][3], row[k]["pv_per_valve"],
                     row[k]["snr_db"],
                 )  # fmt: skip
+                row[k]["valve_evidence"] = _valve_evidence(
+                    out[k, :, 0], out[k, :, 1], valve[k - lo], rec[k][3],
+                    row[k]["plant_family"] == "integrating", row[k]["samples_per_cycle"],
+                )  # fmt: skip
             for k in range(lo, hi):
                 row[k].setdefault("slip_snr", np.nan)
+                row[k].setdefault("valve_evidence", np.nan)
                 row[k]["stiction_visible"] = bool(row[k]["slip_snr"] >= _VISIBLE_SLIP_SNR)
             # a linear plant's PV can be relabelled exactly: other units, other level
             scale = np.array([r[1] for r in rec[lo:hi]])

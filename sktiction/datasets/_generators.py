@@ -355,8 +355,14 @@ def make_loops(
         ``pv_center``, ``warmup``, ``pv_per_valve`` (PV change of a unit valve move:
         the plant's gain, for an integrating plant over its delay and time constant),
         ``slip_snr`` (sticky loops: median PV change of a valve slip over the PV
-        noise's standard deviation; NaN otherwise) and ``stiction_visible`` (True when
-        ``slip_snr >= 1``: the slips can be seen above the noise).
+        noise's standard deviation; NaN otherwise), ``stiction_visible`` (True when
+        ``slip_snr >= 1``: the slips can be seen above the noise) and
+        ``valve_evidence`` (sticky loops, before recording effects: the share of PV's
+        variance left unexplained by OP that stays unexplained when the true valve
+        position is added, in linear fits over lags of up to half a cycle, 10-40
+        samples; near 0 when the record shows how the valve moved, near 1 when OP
+        explains all that the valve would, as for a smooth cycle through a slow plant
+        or slips inside the noise; NaN otherwise).
 
     Examples
     --------
