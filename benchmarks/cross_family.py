@@ -129,7 +129,7 @@ def main():
             np.flatnonzero(side & trainable), np.flatnonzero(~side)
         )
     reference = pred.copy()
-    saved = {"(none)": pred.copy()}
+    saved = {"(none)": reference}
     rows.append(("(none)", "(none)", y, pred, judged, identifiable, reference, shows))
     for family, (column, only) in FAMILIES.items():
         values = RECORDING + ("none",) if column == "recording" else sorted(
